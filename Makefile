@@ -1,0 +1,43 @@
+# VLF — the two set-up commands and a few conveniences.
+#   make demo   install dependencies, Release build, run the main job on the default scene
+#   make test   install dependencies, build, run every test (ctest)
+BUILD       ?= build
+ASAN_BUILD  ?= build-asan
+JOBS        ?= $(shell nproc)
+SCENE       ?= scenes/cornell.json
+OUT         ?= out
+
+.PHONY: demo test deps build build-asan test-asan bench clean format
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@mkdir -p $(OUT)
+	$(BUILD)/propagate/propagate $(SCENE) --dry-run --report $(OUT)/cornell-dry-run.json
+	@echo "demo: dry-run report written to $(OUT)/cornell-dry-run.json"
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+build-asan: deps
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVLF_SANITIZE=ON -DVLF_BUILD_BENCH=OFF
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+
+test-asan: build-asan
+	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+
+bench: build
+	$(BUILD)/bench/vlf_bench --benchmark_min_time=0.2
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+
+clean:
+	rm -rf $(BUILD) $(ASAN_BUILD)

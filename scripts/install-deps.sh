@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package VLF needs to build, test and benchmark.
+# Idempotent: a second run installs nothing new. Must run as root (or through sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake make pkg-config git
+  libglm-dev libopenexr-dev libimath-dev libtbb-dev libeigen3-dev libopenmesh-dev
+  libembree-dev libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libglfw3-dev libgl-dev libopengl-dev
+  xvfb libgl1-mesa-dri xauth
+  openexr gnuplot-nox
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,1 @@
+// direction_set.cpp — (being written)

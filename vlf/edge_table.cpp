@@ -1,0 +1,1 @@
+// edge_table.cpp — (being written)

@@ -1,0 +1,1 @@
+// exchange.cpp — (being written)

@@ -1,0 +1,1 @@
+// light_field.cpp — (being written)

@@ -1,0 +1,15 @@
+// math.hpp — the graphics-math vocabulary of the library (GLM, double precision).
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace vlf {
+
+using Vec2 = glm::dvec2;
+using Vec3 = glm::dvec3;
+using Mat3 = glm::dmat3;
+using Rgb = glm::dvec3;  // linear RGB, one value per channel
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace vlf

@@ -1,0 +1,1 @@
+// parameters.cpp — (being written)

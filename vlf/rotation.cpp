@@ -1,0 +1,1 @@
+// rotation.cpp — (being written)

@@ -1,0 +1,1 @@
+// scene_loader.cpp — (being written)

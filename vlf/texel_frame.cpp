@@ -1,0 +1,1 @@
+// texel_frame.cpp — (being written)
