@@ -1,1 +1,63 @@
+// PSF rasterisation benchmarks: one PSF, and the whole field of the Cornell room.
 #include <benchmark/benchmark.h>
+
+#include "vlf/exchange.hpp"
+#include "vlf/light_field.hpp"
+#include "vlf/parallel.hpp"
+#include "vlf/scene_loader.hpp"
+
+namespace {
+
+const vlf::Scene& cornell() {
+    static const vlf::Scene scene =
+        vlf::load_scene(std::string(VLF_SOURCE_DIR) + "/scenes/cornell.json");
+    return scene;
+}
+
+// One PSF of the Cornell room (N = arg0, m = arg1), a direction off the axes.
+void BM_RasterisePsf(benchmark::State& state) {
+    const vlf::Scene& scene = cornell();
+    const vlf::Vec3 omega = glm::normalize(vlf::Vec3(0.3, 0.5, 0.8));
+    for (auto _ : state) {
+        vlf::Psf psf = vlf::rasterise_psf(scene, omega, 0, static_cast<int>(state.range(0)),
+                                          static_cast<int>(state.range(1)));
+        benchmark::DoNotOptimize(psf.tiles.data());
+    }
+}
+BENCHMARK(BM_RasterisePsf)->Args({64, 8})->Args({128, 16})->Unit(benchmark::kMicrosecond);
+
+// All 2049 directions of the Cornell room at N = 128, m = 16, on all cores (issue goal:
+// under 2 s on 2 cores).
+void BM_RasteriseField(benchmark::State& state) {
+    const vlf::Scene& scene = cornell();
+    vlf::FieldParams p;
+    p.directions = static_cast<int>(state.range(0));
+    p.resolution = static_cast<int>(state.range(1));
+    p.tile = static_cast<int>(state.range(2));
+    for (auto _ : state) {
+        vlf::LightField field = vlf::build_light_field(scene, p);
+        benchmark::DoNotOptimize(field.psfs.data());
+    }
+}
+BENCHMARK(BM_RasteriseField)
+    ->Args({2049, 128, 16})
+    ->Args({513, 64, 8})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Exchange buffers of every tile of one PSF.
+void BM_ExchangePsf(benchmark::State& state) {
+    const vlf::Scene& scene = cornell();
+    const vlf::Psf psf = vlf::rasterise_psf(scene, glm::normalize(vlf::Vec3(0.3, 0.5, 0.8)), 0,
+                                            static_cast<int>(state.range(0)),
+                                            static_cast<int>(state.range(1)));
+    vlf::TileExchange x;
+    vlf::ExchangeScratch scratch;
+    for (auto _ : state) {
+        for (const vlf::Tile& t : psf.tiles) vlf::build_exchange(scene, psf, t, x, scratch);
+        benchmark::DoNotOptimize(x.partner.data());
+    }
+}
+BENCHMARK(BM_ExchangePsf)->Args({64, 8})->Args({128, 16})->Unit(benchmark::kMicrosecond);
+
+}  // namespace

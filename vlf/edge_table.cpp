@@ -1,1 +1,11 @@
-// edge_table.cpp — (being written)
+#include "vlf/edge_table.hpp"
+
+namespace vlf {
+
+int EdgeTable::covered() const {
+    int n = 0;
+    for (int r = 0; r < rows; ++r) n += spans[r].width();
+    return n;
+}
+
+}  // namespace vlf

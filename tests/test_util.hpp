@@ -1,0 +1,57 @@
+// test_util.hpp — small helpers shared by the tests: scenes built in code, file paths.
+#pragma once
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "vlf/scene.hpp"
+
+namespace vlf::test {
+
+inline std::string source_path(const std::string& rel) {
+    return std::string(VLF_SOURCE_DIR) + "/" + rel;
+}
+
+inline std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// A face from vertices already in normalised coordinates (counter-clockwise = front),
+// with a single texel; enough for rasterisation and exchange tests.
+inline Face make_face(const std::vector<Vec3>& vertices, int material = 0) {
+    Face f;
+    f.vertices = vertices;
+    Vec3 n(0.0);
+    for (size_t i = 0; i < vertices.size(); ++i) {  // Newell's method
+        const Vec3& a = vertices[i];
+        const Vec3& b = vertices[(i + 1) % vertices.size()];
+        n += Vec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    f.area = 0.5 * glm::length(n);
+    f.normal = glm::normalize(n);
+    f.plane_offset = glm::dot(f.normal, vertices[0]);
+    f.material = material;
+    return f;
+}
+
+inline Scene make_scene(const std::vector<std::vector<Vec3>>& polygons) {
+    Scene s;
+    s.source = "test";
+    Material m;
+    m.name = "white";
+    m.diffuse = Rgb(0.5);
+    s.materials.push_back(m);
+    for (const auto& p : polygons) {
+        Face f = make_face(p);
+        f.id = static_cast<int>(s.faces.size());
+        s.faces.push_back(f);
+    }
+    return s;
+}
+
+}  // namespace vlf::test

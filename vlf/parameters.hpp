@@ -1,0 +1,42 @@
+// parameters.hpp — every parameter of a propagation run, with its default, in one struct
+// that the CLI fills, the report and the bake manifest store, and the bake reader reads
+// back (STYLE: parameters serialise both ways).
+#pragma once
+
+#include <cstdint>
+
+#include <nlohmann/json.hpp>
+
+#include "vlf/direction_set.hpp"
+
+namespace vlf {
+
+struct FieldParams {
+    int directions = 513;  // l, line directions (2*4^k + 1)
+    int resolution = 64;   // N, rays per PSF side
+    int tile = 8;          // m, rays per tile side
+    DirectionScheme scheme = DirectionScheme::Octahedral;
+};
+
+struct PropagateParams {
+    FieldParams field;
+    double texel_size = 0.0;   // user units; 0: the scene's settings.texel_size or its default
+    int cycles = 4;            // propagation cycles (cycle 1 carries the emission)
+    int threads = 0;           // 0: all hardware threads
+    bool deferred = true;      // VLF §4.5 deferred propagation
+    int perturbations = 0;     // VLF §5 stratified perturbed PSFs per cycle (0: off)
+    double filter_sigma = 0.0; // VLF §5 Gaussian filter of next texture maps, texels (0: off)
+    int supersample = 1;       // VLF §5 super-sampled exchange at polygon boundaries (s x s)
+    bool resample = true;      // VLF §5 backward ray-traced resampling of specular L_T
+    bool store_all_rays = false;  // store L_T of every fragment, not only specular ones
+    uint64_t seed = 1;         // perturbation stream seed
+};
+
+// Throws ParameterError naming the option ("--tile: ...") for any out-of-range value.
+void validate(const PropagateParams& p);
+
+nlohmann::json to_json(const FieldParams& p);
+nlohmann::json to_json(const PropagateParams& p);
+PropagateParams propagate_params_from_json(const nlohmann::json& j);  // throws Error
+
+}  // namespace vlf
