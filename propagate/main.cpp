@@ -8,6 +8,7 @@
 
 #include "vlf/error.hpp"
 #include "vlf/light_field.hpp"
+#include "vlf/parallel.hpp"
 #include "vlf/parameters.hpp"
 #include "vlf/report.hpp"
 #include "vlf/scene_loader.hpp"

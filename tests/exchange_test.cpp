@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+
 #include "test_util.hpp"
 #include "vlf/direction_set.hpp"
 #include "vlf/exchange.hpp"
@@ -75,12 +77,34 @@ Scene closed_cornell() {
                             {"material", j["objects"][0]["material"]},
                             {"vertices", {{556.0, 548.8, 0.0}, {0.0, 548.8, 0.0}, {0.0, 0.0, 0.0},
                                           {552.8, 0.0, 0.0}}}});
+    // The lamp hangs 0.1 mm under the ceiling, one-sided: close it into a solid with a
+    // housing just above it facing the ceiling (as a real fixture is), so the ceiling over
+    // the lamp does not see the lamp's back.
+    j["objects"].push_back({{"type", "polygon"},
+                            {"name", "lamp housing"},
+                            {"material", j["objects"][0]["material"]},
+                            {"vertices", {{213.0, 548.75, 227.0}, {213.0, 548.75, 332.0},
+                                          {343.0, 548.75, 332.0}, {343.0, 548.75, 227.0}}}});
+    const double y0 = 548.7, y1 = 548.75;
+    const std::vector<std::vector<std::array<double, 3>>> sides = {
+        {{213, y1, 227}, {343, y1, 227}, {343, y0, 227}, {213, y0, 227}},   // facing -z
+        {{343, y0, 332}, {343, y1, 332}, {213, y1, 332}, {213, y0, 332}},   // facing +z
+        {{213, y0, 332}, {213, y1, 332}, {213, y1, 227}, {213, y0, 227}},   // facing -x
+        {{343, y1, 227}, {343, y1, 332}, {343, y0, 332}, {343, y0, 227}}};  // facing +x
+    for (const auto& v : sides)
+        j["objects"].push_back({{"type", "polygon"},
+                                {"material", j["objects"][0]["material"]},
+                                {"vertices", v}});
     return load_scene_from_string(j.dump(), "cornell+front.json", test::source_path("scenes"));
 }
 
 TEST(ExchangeWatertight, ClosedCornellRoomPairsEveryRay) {
     const Scene scene = closed_cornell();
-    const Face& front = scene.faces.back();
+    const Face* front_ptr = nullptr;
+    for (const Face& f : scene.faces)
+        if (scene.objects[f.object].name == "front wall") front_ptr = &f;
+    ASSERT_NE(front_ptr, nullptr);
+    const Face& front = *front_ptr;
     ASSERT_GT(front.normal.z, 0.99);  // faces into the room
     const PairingTally t = tally_pairings(scene, 513, 64, 8);
     EXPECT_GT(t.rays, 1000000);

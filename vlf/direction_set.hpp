@@ -69,13 +69,44 @@ public:
     const std::vector<Triangle>& triangles() const { return m_triangles; }
 
 private:
-    // ... implementation state (lattice index map, triangles)
+    friend struct DirectionSetTestAccess;  // tests/direction_set_test.cpp: the two maps
+
+    // Per triangle: the three edge-plane normals in travel-vector orientation, so that
+    // dot(t, edge[k]) = det(t, v_{k+1}, v_{k+2}) is the unnormalised gnomonic barycentric of
+    // vertex k, and inv_len[k] = 1/|edge[k]| turns it into the sine of t's distance to the
+    // great circle of the opposite edge (positive inside).
+    struct TriangleGeometry {
+        std::array<Vec3, 3> edge;
+        std::array<double, 3> inv_len;
+    };
+
+    // Lattice (u, v) in the diamond |u|+|v| <= 1 -> point on the upper hemisphere, and back
+    // (t.z >= 0). Octahedral: radial projection; EqualArea: z = 1 - r^2, r = |u|+|v|.
+    static Vec3 map_to_sphere(DirectionScheme scheme, const Vec2& uv);
+    static Vec2 map_to_diamond(DirectionScheme scheme, const Vec3& t);
+
+    int lattice_slot(int i, int j) const { return (j + m_n) * (2 * m_n + 1) + (i + m_n); }
+    int cell_slot(int ci, int cj) const { return (cj + m_n) * (2 * m_n) + (ci + m_n); }
+    // The cell (ci, cj) in [-n, n-1]^2 and the half (0/1) of the lattice triangle under the
+    // diamond point uv (clamped into the diamond); returns the triangle id.
+    int locate(const Vec2& uv, int& ci, int& cj) const;
+    Vec3 travel_vector(int lattice_i, int lattice_j) const;
+    void build_triangles();
+    void build_nearest_candidates();
+
     int m_n = 0;
     DirectionScheme m_scheme;
     std::vector<Vec3> m_dirs;
     std::vector<double> m_solid_angle;
     std::vector<Triangle> m_triangles;
     std::vector<int> m_lattice;  // (2n+1)^2 entries: lattice (i,j) -> line index (or -1)
+    std::vector<signed char> m_lattice_sense;          // +1, or -1 at non-canonical equator points
+    std::vector<std::array<int, 2>> m_cell_triangles;  // (2n)^2 cells x 2 halves -> id or -1
+    std::vector<TriangleGeometry> m_geometry;          // per triangle
+    // nearest(): per triangle of the *octahedral* lattice map, every line that can be the
+    // nearest one for some direction inside it (CSR: offsets into m_near_lines).
+    std::vector<int> m_near_offset;
+    std::vector<int> m_near_lines;
 };
 
 }  // namespace vlf

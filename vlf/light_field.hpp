@@ -16,7 +16,7 @@ namespace vlf {
 
 struct LightField {
     FieldParams params;
-    DirectionSet directions;
+    DirectionSet directions{9};
     std::vector<Psf> psfs;  // psfs[i] is direction i
 };
 

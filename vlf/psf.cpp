@@ -59,94 +59,23 @@ Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int r
     psf.tile_size = m;
 
     std::vector<ScratchTile> grid(static_cast<size_t>(n) * n);
-    std::vector<int> row_i0(N), row_i1(N);
-    std::vector<Vec2> proj;
-
+    FaceRaster fr;
     for (const Face& face : scene.faces) {
-        const Vec3 nr = rotation * face.normal;
-        if (std::abs(nr.z) < 1e-12) continue;  // edge-on: covers no ray
-        const int8_t facing = nr.z > 0 ? 1 : -1;
-
-        proj.clear();
-        double ymin = 1e300, ymax = -1e300;
-        for (const Vec3& v : face.vertices) {
-            const Vec3 p = rotation * v;
-            proj.emplace_back(p.x, p.y);
-            ymin = std::min(ymin, p.y);
-            ymax = std::max(ymax, p.y);
-        }
-        const int jlo = first_centre_at_or_after(ymin, N);
-        const int jhi = first_centre_at_or_after(ymax, N);  // exclusive
-        if (jlo >= jhi) continue;
-
-        // Spans per row. An edge crosses row y when lo.y <= y < hi.y, with (lo, hi) its
-        // endpoints in a canonical order, so a shared edge yields the identical x from
-        // both of its polygons: one takes it as an inclusive left end, the other as an
-        // exclusive right end, and no ray is lost or counted twice.
-        const size_t nv = proj.size();
-        for (int j = jlo; j < jhi; ++j) {
-            const double y = psf.ray_y(j);
-            double xl = 1e300, xr = -1e300;
-            int crossings = 0;
-            for (size_t k = 0; k < nv; ++k) {
-                Vec2 a = proj[k], b = proj[(k + 1) % nv];
-                if (b.y < a.y || (b.y == a.y && b.x < a.x)) std::swap(a, b);
-                if (!(a.y <= y && y < b.y)) continue;
-                const double x = a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y);
-                xl = std::min(xl, x);
-                xr = std::max(xr, x);
-                ++crossings;
-            }
-            if (crossings < 2) {
-                row_i0[j] = row_i1[j] = 0;
-                continue;
-            }
-            row_i0[j] = first_centre_at_or_after(xl, N);
-            row_i1[j] = first_centre_at_or_after(xr, N);
-        }
-
-        // Cut the rows into tiles: one fragment per tile the polygon touches.
-        for (int tr = jlo / m; tr <= (jhi - 1) / m; ++tr) {
-            const int r0 = std::max(jlo, tr * m), r1 = std::min(jhi, tr * m + m);
-            int smin = n, smax = -1;
-            for (int j = r0; j < r1; ++j) {
-                if (row_i1[j] <= row_i0[j]) continue;
-                smin = std::min(smin, row_i0[j] / m);
-                smax = std::max(smax, (row_i1[j] - 1) / m);
-            }
-            for (int s = smin; s <= smax; ++s) {
-                const int c0 = s * m, c1 = c0 + m;
-                int first = -1, last = -1;
-                for (int j = r0; j < r1; ++j) {
-                    if (std::max(row_i0[j], c0) < std::min(row_i1[j], c1)) {
-                        if (first < 0) first = j;
-                        last = j;
-                    }
-                }
-                if (first < 0) continue;
-                ScratchTile& tile = grid[static_cast<size_t>(tr) * n + s];
-                Fragment frag;
-                frag.face = face.id;
-                frag.row_begin = static_cast<uint16_t>(first - tr * m);
-                frag.rows = static_cast<uint16_t>(last - first + 1);
-                frag.span_offset = static_cast<uint32_t>(tile.spans.size());
-                frag.ray_offset = tile.covered;
-                frag.facing = facing;
-                uint32_t covered = 0;
-                for (int j = first; j <= last; ++j) {
-                    const int b = std::max(row_i0[j], c0), e = std::min(row_i1[j], c1);
-                    Span span;
-                    if (b < e) {
-                        span.begin = static_cast<uint16_t>(b - c0);
-                        span.end = static_cast<uint16_t>(e - c0);
-                        covered += static_cast<uint32_t>(e - b);
-                    }
-                    tile.spans.push_back(span);
-                }
-                frag.covered = covered;
-                tile.covered += covered;
-                tile.fragments.push_back(frag);
-            }
+        rasterise_face(face, rotation, N, m, fr);
+        for (const FaceFragment& ff : fr.fragments) {
+            ScratchTile& tile = grid[static_cast<size_t>(ff.t) * n + ff.s];
+            Fragment frag;
+            frag.face = face.id;
+            frag.row_begin = ff.row_begin;
+            frag.rows = ff.rows;
+            frag.span_offset = static_cast<uint32_t>(tile.spans.size());
+            frag.ray_offset = tile.covered;
+            frag.covered = ff.covered;
+            frag.facing = fr.facing;
+            tile.spans.insert(tile.spans.end(), fr.spans.begin() + ff.span_offset,
+                              fr.spans.begin() + ff.span_offset + ff.rows);
+            tile.covered += ff.covered;
+            tile.fragments.push_back(frag);
         }
     }
 
@@ -166,6 +95,102 @@ Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int r
         }
     }
     return psf;
+}
+
+void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
+                    FaceRaster& out) {
+    const int N = resolution, m = tile_size, n = N / m;
+    out.fragments.clear();
+    out.spans.clear();
+    out.covered = 0;
+    out.facing = 0;
+    const Vec3 nr = rotation * face.normal;
+    if (std::abs(nr.z) < 1e-12) return;  // edge-on: covers no ray
+    out.facing = nr.z > 0 ? 1 : -1;
+
+    thread_local std::vector<Vec2> proj;
+    thread_local std::vector<int> row_i0, row_i1;
+    proj.clear();
+    row_i0.resize(N);
+    row_i1.resize(N);
+    double ymin = 1e300, ymax = -1e300;
+    for (const Vec3& v : face.vertices) {
+        const Vec3 p = rotation * v;
+        proj.emplace_back(p.x, p.y);
+        ymin = std::min(ymin, p.y);
+        ymax = std::max(ymax, p.y);
+    }
+    const int jlo = first_centre_at_or_after(ymin, N);
+    const int jhi = first_centre_at_or_after(ymax, N);  // exclusive
+    if (jlo >= jhi) return;
+
+    // Spans per row. An edge crosses row y when lo.y <= y < hi.y, with (lo, hi) its
+    // endpoints in a canonical order, so a shared edge yields the identical x from both of
+    // its polygons: one takes it as an inclusive left end, the other as an exclusive right
+    // end, and no ray is lost or counted twice.
+    const size_t nv = proj.size();
+    for (int j = jlo; j < jhi; ++j) {
+        const double y = (2.0 * j + 1.0) / N - 1.0;
+        double xl = 1e300, xr = -1e300;
+        int crossings = 0;
+        for (size_t k = 0; k < nv; ++k) {
+            Vec2 a = proj[k], b = proj[(k + 1) % nv];
+            if (b.y < a.y || (b.y == a.y && b.x < a.x)) std::swap(a, b);
+            if (!(a.y <= y && y < b.y)) continue;
+            const double x = a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y);
+            xl = std::min(xl, x);
+            xr = std::max(xr, x);
+            ++crossings;
+        }
+        if (crossings < 2) {
+            row_i0[j] = row_i1[j] = 0;
+            continue;
+        }
+        row_i0[j] = first_centre_at_or_after(xl, N);
+        row_i1[j] = first_centre_at_or_after(xr, N);
+    }
+
+    // Cut the rows into tiles: one fragment per tile the polygon touches, row-major.
+    for (int tr = jlo / m; tr <= (jhi - 1) / m; ++tr) {
+        const int r0 = std::max(jlo, tr * m), r1 = std::min(jhi, tr * m + m);
+        int smin = n, smax = -1;
+        for (int j = r0; j < r1; ++j) {
+            if (row_i1[j] <= row_i0[j]) continue;
+            smin = std::min(smin, row_i0[j] / m);
+            smax = std::max(smax, (row_i1[j] - 1) / m);
+        }
+        for (int s = smin; s <= smax; ++s) {
+            const int c0 = s * m, c1 = c0 + m;
+            int first = -1, last = -1;
+            for (int j = r0; j < r1; ++j) {
+                if (std::max(row_i0[j], c0) < std::min(row_i1[j], c1)) {
+                    if (first < 0) first = j;
+                    last = j;
+                }
+            }
+            if (first < 0) continue;
+            FaceFragment frag;
+            frag.s = static_cast<uint16_t>(s);
+            frag.t = static_cast<uint16_t>(tr);
+            frag.row_begin = static_cast<uint16_t>(first - tr * m);
+            frag.rows = static_cast<uint16_t>(last - first + 1);
+            frag.span_offset = static_cast<uint32_t>(out.spans.size());
+            uint32_t covered = 0;
+            for (int j = first; j <= last; ++j) {
+                const int b = std::max(row_i0[j], c0), e = std::min(row_i1[j], c1);
+                Span span;
+                if (b < e) {
+                    span.begin = static_cast<uint16_t>(b - c0);
+                    span.end = static_cast<uint16_t>(e - c0);
+                    covered += static_cast<uint32_t>(e - b);
+                }
+                out.spans.push_back(span);
+            }
+            frag.covered = covered;
+            out.covered += covered;
+            out.fragments.push_back(frag);
+        }
+    }
 }
 
 PsfMemory memory_of(const Psf& psf) {

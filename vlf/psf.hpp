@@ -76,6 +76,27 @@ Psf rasterise_psf(const Scene& scene, const Vec3& omega, int direction, int reso
 Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int resolution,
                   int tile_size);
 
+// One face rasterised alone: its fragments in tile row-major order (the same fragments,
+// in the same order, as it has in the full PSF). Used where a single face is needed in a
+// direction without rasterising the scene (specular targets, perturbed transfers).
+struct FaceFragment {
+    uint16_t s = 0, t = 0;
+    uint16_t row_begin = 0, rows = 0;
+    uint32_t span_offset = 0;
+    uint32_t covered = 0;
+};
+struct FaceRaster {
+    int8_t facing = 0;  // 0 when edge-on (no fragments)
+    std::vector<FaceFragment> fragments;
+    std::vector<Span> spans;
+    uint32_t covered = 0;
+    EdgeTable edge_table(const FaceFragment& f) const {
+        return EdgeTable{f.row_begin, f.rows, spans.data() + f.span_offset};
+    }
+};
+void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
+                    FaceRaster& out);
+
 // Bytes held by the PSF's tiles, fragments and edge tables.
 struct PsfMemory {
     size_t tiles = 0, fragments = 0, edge_tables = 0;

@@ -1,0 +1,455 @@
+// bake_test.cpp — the bake bundle (vlf/bake.hpp, DESIGN §6) and its SHA-256 (vlf/checksum.hpp):
+// a propagated scene round-trips through write_bake/read_bake, and every damaged bundle is
+// refused with a message naming the bundle and the part.
+#include "vlf/bake.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "vlf/checksum.hpp"
+#include "vlf/error.hpp"
+#include "vlf/propagation.hpp"
+#include "vlf/scene_loader.hpp"
+#include "vlf/transport.hpp"
+
+namespace fs = std::filesystem;
+
+namespace vlf {
+namespace {
+
+// --- SHA-256 against the FIPS 180-4 / NIST example vectors -------------------------------
+
+TEST(BakeChecksum, KnownVectors) {
+    EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(sha256_hex("abc"),
+              "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    EXPECT_EQ(sha256_hex("abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnop"
+                         "jklmnopqklmnopqrlmnopqrsmnopqrstnopqrstu"),
+              "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1");
+    Sha256 million;  // one million 'a', fed in uneven pieces to exercise the buffering
+    const std::string chunk(997, 'a');
+    size_t left = 1000000;
+    while (left > 0) {
+        const size_t n = std::min(left, chunk.size());
+        million.update(chunk.data(), n);
+        left -= n;
+    }
+    EXPECT_EQ(million.hex_digest(),
+              "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+TEST(BakeChecksum, BlockBoundaries) {
+    // Lengths around the 55/56/64-byte padding boundaries: incremental == one-shot.
+    for (size_t n : {55u, 56u, 57u, 63u, 64u, 65u, 119u, 120u, 128u}) {
+        const std::string s(n, 'x');
+        Sha256 h;
+        for (char c : s) h.update(&c, 1);
+        EXPECT_EQ(h.hex_digest(), sha256_hex(s)) << n;
+    }
+    EXPECT_NE(sha256_hex(std::string(55, 'x')), sha256_hex(std::string(56, 'x')));
+}
+
+// --- a small propagated scene --------------------------------------------------------------
+
+// A closed room (box seen from inside), a lamp under the ceiling and a tilted mirror facing
+// the room (+x side, counter-clockwise seen from there), so specular radiance maps exist.
+const char* kScene = R"({
+  "settings": {"units": "m", "texel_size": 0.25},
+  "materials": {
+    "white":  {"diffuse": [0.7, 0.7, 0.7]},
+    "mirror": {"specular": [0.9, 0.9, 0.9]},
+    "lamp":   {"diffuse": [0.5, 0.5, 0.5], "emission": [10.0, 8.0, 6.0]}
+  },
+  "objects": [
+    {"name": "room", "type": "box", "min": [-1, 0, -1], "max": [1, 2, 1], "flip": true,
+     "material": "white"},
+    {"name": "lamp", "type": "polygon", "material": "lamp",
+     "vertices": [[0.3, 1.95, -0.3], [0.3, 1.95, 0.3], [-0.3, 1.95, 0.3], [-0.3, 1.95, -0.3]]},
+    {"name": "mirror", "type": "polygon", "material": "mirror",
+     "vertices": [[-0.9, 1.2, -0.5], [-0.6, 1.2, 0.5], [-0.6, 0.2, 0.5], [-0.9, 0.2, -0.5]]}
+  ],
+  "cameras": [{"name": "default", "eye": [0, 1, -0.9], "look_at": [0, 1, 0], "up": [0, 1, 0],
+               "fov_y_deg": 60}]
+})";
+
+PropagateParams small_params() {
+    PropagateParams p;
+    p.field.directions = 33;
+    p.field.resolution = 16;
+    p.field.tile = 4;
+    p.cycles = 2;
+    p.threads = 2;
+    return p;
+}
+
+// Propagated once for the whole suite (the slow part), then baked into memory.
+struct Fixture {
+    Scene scene;
+    PropagateParams params;
+    Bake bake;
+    Fixture() {
+        scene = load_scene_from_string(kScene, "bake-test.json", ".");
+        params = small_params();
+        const Propagation run = propagate(scene, params, {});
+        const nlohmann::json report = propagation_report(scene, params, run, 0.0);
+        bake = make_bake(scene, params, *run.transport, report);
+    }
+};
+
+const Fixture& fixture() {
+    static const Fixture f;
+    return f;
+}
+
+// A fresh directory per test under the system temp dir, removed afterwards.
+class BakeBundle : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_dir = fs::temp_directory_path() /
+                (std::string("vlf-bake-") + info->name() + "-" + std::to_string(::getpid()));
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+        m_bundle = (m_dir / "scene.vlf").string();
+    }
+    // VLF_KEEP_BAKE_TEST=1 keeps the bundles (to inspect them with exrheader etc.).
+    void TearDown() override {
+        if (!std::getenv("VLF_KEEP_BAKE_TEST")) fs::remove_all(m_dir);
+    }
+
+    // Writes the fixture's bake; returns the bundle path.
+    const std::string& written() {
+        write_bake(m_bundle, fixture().bake);
+        return m_bundle;
+    }
+    fs::path file(const std::string& name) const { return fs::path(m_bundle) / name; }
+
+    // read_bake must throw an Error whose message contains every needle.
+    void expect_refused(const std::vector<std::string>& needles) {
+        try {
+            read_bake(m_bundle);
+            ADD_FAILURE() << "read_bake accepted a damaged bundle";
+        } catch (const Error& e) {
+            const std::string msg = e.what();
+            std::cout << "refused: " << msg << "\n";
+            for (const std::string& n : needles)
+                EXPECT_NE(msg.find(n), std::string::npos) << "'" << n << "' not in: " << msg;
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << "not a vlf::Error: " << e.what();
+        }
+    }
+
+    nlohmann::json read_json(const std::string& name) {
+        std::ifstream in(file(name));
+        return nlohmann::json::parse(in);
+    }
+    void write_json(const std::string& name, const nlohmann::json& j) {
+        std::ofstream out(file(name), std::ios::trunc);
+        out << j.dump(1);
+    }
+
+    fs::path m_dir;
+    std::string m_bundle;
+};
+
+void expect_same_vec(const Vec3& a, const Vec3& b) {
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+    EXPECT_EQ(a.z, b.z);
+}
+
+TEST(BakeMake, RaysMatchTheSpecularMaps) {
+    const Fixture& fx = fixture();
+    const Bake& b = fx.bake;
+    ASSERT_GT(fx.scene.specular_face_count(), 0);
+    EXPECT_EQ(b.rays.directions, 33);
+    EXPECT_EQ(b.rays.resolution, 16);
+    EXPECT_EQ(b.rays.tile, 4);
+    ASSERT_EQ(b.rays.pixel_offset.size(), size_t(33) * 16 * 16 + 1);
+    ASSERT_GT(b.rays.face.size(), 0u);
+    // Only specular faces are stored (no --store-all-rays); per pixel ascending face ids.
+    bool any_light = false;
+    for (size_t p = 0; p + 1 < b.rays.pixel_offset.size(); ++p)
+        for (uint64_t k = b.rays.pixel_offset[p]; k < b.rays.pixel_offset[p + 1]; ++k) {
+            const Face& f = fx.scene.faces[b.rays.face[k]];
+            EXPECT_TRUE(fx.scene.material_of(f).is_specular());
+            if (k > b.rays.pixel_offset[p]) {
+                EXPECT_LT(b.rays.face[k - 1], b.rays.face[k]);
+            }
+            any_light = any_light || b.rays.radiance[k].x > 0;
+        }
+    EXPECT_TRUE(any_light) << "the mirror should carry some light after 2 cycles";
+    // Every ray of the mirror's radiance maps appears once: sample count = stored rays.
+    Scene scene = fx.scene;
+    const Transport t(scene, fx.params);
+    EXPECT_EQ(b.rays.face.size(), t.specular_maps().rays());
+    // Lightmap radiance is P^T radiance: the lamp is at least its own emission.
+    int lamp = -1;
+    for (const Face& f : fx.scene.faces)
+        if (fx.scene.material_of(f).is_emitter()) lamp = f.id;
+    ASSERT_GE(lamp, 0);
+    const Face& lf = fx.scene.faces[lamp];
+    double best = 0;
+    for (size_t t2 = 0; t2 < lf.texel_area.size(); ++t2)
+        best = std::max(best, b.lightmap_radiance[b.texel_offset[lamp] + t2].x);
+    EXPECT_GE(best, 10.0 * 0.99);
+}
+
+TEST(BakeMake, LookupFindsEverySample) {
+    const Bake& b = fixture().bake;
+    const int N = b.rays.resolution;
+    for (int d = 0; d < b.rays.directions; ++d)
+        for (int j = 0; j < N; ++j)
+            for (int i = 0; i < N; ++i) {
+                const size_t p = (size_t(d) * N + j) * N + i;
+                for (uint64_t k = b.rays.pixel_offset[p]; k < b.rays.pixel_offset[p + 1]; ++k) {
+                    RgbF out(-1.0f);
+                    ASSERT_TRUE(b.rays.lookup(d, i, j, b.rays.face[k], out));
+                    EXPECT_EQ(out, b.rays.radiance[k]);
+                }
+            }
+    RgbF out;
+    EXPECT_FALSE(b.rays.lookup(0, 0, 0, 100000, out));
+    EXPECT_FALSE(b.rays.lookup(-1, 0, 0, 0, out));
+    EXPECT_FALSE(b.rays.lookup(0, N, 0, 0, out));
+}
+
+TEST_F(BakeBundle, RoundTrip) {
+    const Bake& a = fixture().bake;
+    write_bake(m_bundle, a);
+    EXPECT_FALSE(fs::exists(m_bundle + ".partial"));
+    for (const char* f : {"manifest.json", "scene.json", "lightmaps.exr", "lightfield.exr"})
+        EXPECT_TRUE(fs::is_regular_file(file(f))) << f;
+    const Bake b = read_bake(m_bundle);
+
+    // Scene: exact.
+    ASSERT_EQ(b.scene.faces.size(), a.scene.faces.size());
+    EXPECT_EQ(scene_to_json(b.scene), scene_to_json(a.scene));
+    for (size_t f = 0; f < a.scene.faces.size(); ++f) {
+        const Face &fa = a.scene.faces[f], &fb = b.scene.faces[f];
+        ASSERT_EQ(fa.vertices.size(), fb.vertices.size());
+        for (size_t v = 0; v < fa.vertices.size(); ++v)
+            expect_same_vec(fa.vertices[v], fb.vertices[v]);
+        expect_same_vec(fa.normal, fb.normal);
+        EXPECT_EQ(fa.plane_offset, fb.plane_offset);
+        EXPECT_EQ(fa.area, fb.area);
+        expect_same_vec(fa.texels.origin, fb.texels.origin);
+        expect_same_vec(fa.texels.axis_u, fb.texels.axis_u);
+        expect_same_vec(fa.texels.axis_v, fb.texels.axis_v);
+        EXPECT_EQ(fa.texels.size, fb.texels.size);
+        EXPECT_EQ(fa.texels.width, fb.texels.width);
+        EXPECT_EQ(fa.texels.height, fb.texels.height);
+        EXPECT_EQ(fa.texel_area, fb.texel_area);
+        EXPECT_EQ(fa.material, fb.material);
+        EXPECT_EQ(fa.object, fb.object);
+    }
+    ASSERT_EQ(b.scene.materials.size(), a.scene.materials.size());
+    for (size_t k = 0; k < a.scene.materials.size(); ++k) {
+        EXPECT_EQ(b.scene.materials[k].name, a.scene.materials[k].name);
+        expect_same_vec(b.scene.materials[k].emission, a.scene.materials[k].emission);
+        expect_same_vec(b.scene.materials[k].specular, a.scene.materials[k].specular);
+    }
+    ASSERT_EQ(b.scene.cameras.size(), 1u);
+    expect_same_vec(b.scene.cameras[0].eye, a.scene.cameras[0].eye);
+    expect_same_vec(b.scene.normalisation.center, a.scene.normalisation.center);
+    EXPECT_EQ(b.scene.normalisation.scale, a.scene.normalisation.scale);
+    EXPECT_EQ(b.scene.units, "m");
+    EXPECT_EQ(b.scene.texel_size_user, a.scene.texel_size_user);
+
+    // Parameters, manifest, directions.
+    EXPECT_EQ(to_json(b.params), to_json(a.params));
+    EXPECT_EQ(b.manifest["ledger"], a.manifest["ledger"]);
+    EXPECT_FALSE(b.manifest["ledger"].empty());
+    EXPECT_EQ(b.manifest["format"], "vlf-bake");
+    EXPECT_EQ(b.manifest["version"], 1);
+    EXPECT_EQ(b.manifest["units"], "m");
+    EXPECT_EQ(b.manifest["files"].size(), 3u);
+    ASSERT_EQ(b.directions.size(), 33);
+    for (int d = 0; d < 33; ++d)
+        expect_same_vec(b.directions.direction(d), a.directions.direction(d));
+
+    // Lightmaps: half precision.
+    EXPECT_EQ(b.texel_offset, a.texel_offset);
+    ASSERT_EQ(b.lightmap_radiance.size(), a.lightmap_radiance.size());
+    for (size_t t = 0; t < a.lightmap_radiance.size(); ++t)
+        for (int c = 0; c < 3; ++c) {
+            const double x = a.lightmap_radiance[t][c], y = b.lightmap_radiance[t][c];
+            EXPECT_NEAR(y, x, 1e-3 * std::abs(x) + 1e-6) << "texel " << t << " channel " << c;
+        }
+
+    // Rays: identical, every sample.
+    EXPECT_EQ(b.rays.directions, a.rays.directions);
+    EXPECT_EQ(b.rays.resolution, a.rays.resolution);
+    EXPECT_EQ(b.rays.tile, a.rays.tile);
+    EXPECT_EQ(b.rays.pixel_offset, a.rays.pixel_offset);
+    EXPECT_EQ(b.rays.face, a.rays.face);
+    ASSERT_EQ(b.rays.radiance.size(), a.rays.radiance.size());
+    for (size_t k = 0; k < a.rays.radiance.size(); ++k)
+        ASSERT_EQ(b.rays.radiance[k], a.rays.radiance[k]) << "sample " << k;
+}
+
+TEST_F(BakeBundle, ReplacesAnExistingBundle) {
+    written();
+    const auto first = fs::last_write_time(file("manifest.json"));
+    fs::create_directories(m_bundle + ".partial/junk");  // a stale attempt
+    written();
+    EXPECT_FALSE(fs::exists(m_bundle + ".partial"));
+    EXPECT_GE(fs::last_write_time(file("manifest.json")), first);
+    EXPECT_NO_THROW(read_bake(m_bundle));
+}
+
+TEST_F(BakeBundle, RefusesToReplaceAnUnrelatedDirectory) {
+    fs::create_directories(m_bundle);
+    std::ofstream(file("precious.txt")) << "keep me";
+    EXPECT_THROW(write_bake(m_bundle, fixture().bake), Error);
+    EXPECT_TRUE(fs::exists(file("precious.txt")));
+}
+
+TEST_F(BakeBundle, WriteToAnUnwritablePathThrows) {
+    // A path below a regular file can never be created (even as root).
+    const fs::path blocker = m_dir / "not-a-dir";
+    std::ofstream(blocker) << "x";
+    const std::string bad = (blocker / "out.vlf").string();
+    try {
+        write_bake(bad, fixture().bake);
+        ADD_FAILURE() << "write_bake succeeded below a regular file";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(BakeBundle, MissingLightfield) {
+    written();
+    fs::remove(file("lightfield.exr"));
+    expect_refused({m_bundle, "lightfield.exr", "missing"});
+}
+
+TEST_F(BakeBundle, MissingManifest) {
+    written();
+    fs::remove(file("manifest.json"));
+    expect_refused({m_bundle, "manifest.json", "missing"});
+}
+
+TEST_F(BakeBundle, MissingBundle) {
+    expect_refused({m_bundle});
+}
+
+TEST_F(BakeBundle, TruncatedLightfield) {
+    written();
+    const auto size = fs::file_size(file("lightfield.exr"));
+    fs::resize_file(file("lightfield.exr"), size / 2);
+    expect_refused({m_bundle, "lightfield.exr", "truncated"});
+}
+
+TEST_F(BakeBundle, CorruptedLightmaps) {
+    written();
+    const auto size = fs::file_size(file("lightmaps.exr"));
+    {
+        std::fstream io(file("lightmaps.exr"), std::ios::in | std::ios::out | std::ios::binary);
+        for (std::streamoff at : {std::streamoff(size / 2), std::streamoff(size - 3)}) {
+            io.seekg(at);
+            char c = 0;
+            io.read(&c, 1);
+            c = static_cast<char>(~c);
+            io.seekp(at);
+            io.write(&c, 1);
+        }
+    }
+    EXPECT_EQ(fs::file_size(file("lightmaps.exr")), size);
+    expect_refused({m_bundle, "lightmaps.exr", "checksum"});
+}
+
+TEST_F(BakeBundle, OtherFormatVersion) {
+    written();
+    nlohmann::json m = read_json("manifest.json");
+    m["version"] = 2;
+    write_json("manifest.json", m);
+    expect_refused(
+        {m_bundle, "manifest.json", "format version 2 is not supported (this build reads 1)"});
+}
+
+TEST_F(BakeBundle, NotAManifest) {
+    written();
+    std::ofstream(file("manifest.json"), std::ios::trunc) << "{\"format\": \"vlf-bake\", ";
+    expect_refused({m_bundle, "manifest.json", "JSON"});
+}
+
+TEST_F(BakeBundle, ManifestParametersDisagreeWithTheLightfield) {
+    written();
+    nlohmann::json m = read_json("manifest.json");
+    m["parameters"]["directions"] = 129;  // the file holds 33 parts; checksums still agree
+    write_json("manifest.json", m);
+    expect_refused({m_bundle, "lightfield.exr", "manifest does not match its files", "33 parts"});
+}
+
+TEST_F(BakeBundle, ManifestTileDisagreesWithTheLightfield) {
+    written();
+    nlohmann::json m = read_json("manifest.json");
+    m["parameters"]["tile"] = 8;
+    write_json("manifest.json", m);
+    expect_refused({m_bundle, "lightfield.exr: part 0", "manifest does not match its files"});
+}
+
+TEST_F(BakeBundle, ManifestAtlasDisagreesWithTheScene) {
+    written();
+    nlohmann::json m = read_json("manifest.json");
+    m["lightmaps"][0]["width"] = m["lightmaps"][0]["width"].get<int>() + 1;
+    write_json("manifest.json", m);
+    expect_refused({m_bundle, "lightmaps.exr", "manifest does not match its files"});
+}
+
+TEST_F(BakeBundle, SceneFromAnotherBundle) {
+    // A consistent checksum on a scene.json from elsewhere: the transform check catches it.
+    written();
+    nlohmann::json s = read_json("scene.json");
+    s["normalisation"]["scale"] = s["normalisation"]["scale"].get<double>() * 2;
+    write_json("scene.json", s);
+    nlohmann::json m = read_json("manifest.json");
+    uint64_t bytes = 0;
+    m["files"]["scene.json"]["sha256"] = sha256_file(file("scene.json").string(), bytes);
+    m["files"]["scene.json"]["bytes"] = bytes;
+    write_json("manifest.json", m);
+    expect_refused({m_bundle, "scene.json", "manifest does not match its files"});
+}
+
+TEST_F(BakeBundle, DamageBehindAForgedChecksumNeverCrashes) {
+    // Bytes changed *and* the checksum updated (a buggy writer, not bit rot): reading must
+    // throw a vlf::Error naming the part or return a bundle that passed every validation.
+    written();
+    const fs::path lf = file("lightfield.exr");
+    const std::string pristine = [&] {
+        std::ifstream in(lf, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    }();
+    const nlohmann::json manifest = read_json("manifest.json");
+    int refused = 0;
+    for (size_t at = 7; at < pristine.size(); at += pristine.size() / 61 + 1) {
+        std::string bytes = pristine;
+        bytes[at] = static_cast<char>(bytes[at] ^ 0x5a);
+        std::ofstream(lf, std::ios::binary | std::ios::trunc) << bytes;
+        nlohmann::json m = manifest;
+        m["files"]["lightfield.exr"]["sha256"] = sha256_hex(bytes);
+        write_json("manifest.json", m);
+        try {
+            const Bake b = read_bake(m_bundle);
+            EXPECT_EQ(b.rays.pixel_offset.back(), b.rays.face.size());
+        } catch (const Error& e) {
+            ++refused;
+            std::cout << "refused: " << e.what() << "\n";
+            EXPECT_NE(std::string(e.what()).find("lightfield.exr"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_GT(refused, 0);
+}
+
+}  // namespace
+}  // namespace vlf

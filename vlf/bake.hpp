@@ -1,0 +1,73 @@
+// bake.hpp — the bake bundle OUT.vlf/ (DESIGN §6; VLF §3 "layered depth images"):
+//   manifest.json   format name/version, parameters, scene transform and units, ledger,
+//                   timings, memory, SHA-256... (checksum) of every other file;
+//   scene.json      the normalised scene, self-contained (faces, texel frames, materials,
+//                   cameras, normalisation);
+//   lightmaps.exr   P^T of every face as a half-RGB atlas (radiance, W m^-2 sr^-1);
+//   lightfield.exr  multi-part OpenEXR, one deep tiled part per direction (N x N, tile
+//                   m x m): per pixel, the fragments along that ray as deep samples
+//                   (face id + outgoing radiance L_T) for specular faces (and for every
+//                   face with --store-all-rays).
+// Written under OUT.vlf.partial and renamed when complete.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "vlf/direction_set.hpp"
+#include "vlf/parameters.hpp"
+#include "vlf/radiance_maps.hpp"
+#include "vlf/scene.hpp"
+#include "vlf/texture_maps.hpp"
+
+namespace vlf {
+
+class Transport;
+
+inline constexpr const char* kBakeFormat = "vlf-bake";
+inline constexpr int kBakeVersion = 1;
+
+// The stored rays of every direction as layered depth images: for direction d and pixel
+// (i, j), samples [pixel_offset[(d*N + j)*N + i], pixel_offset[... + 1]) of face/radiance.
+struct RayImages {
+    int directions = 0;
+    int resolution = 0;
+    int tile = 0;
+    std::vector<uint64_t> pixel_offset;  // directions * N * N + 1
+    std::vector<int32_t> face;
+    std::vector<RgbF> radiance;  // L_T, W m^-2 sr^-1, travelling along the face's front sense
+    // Radiance of `face` on ray (d, i, j); false when the ray holds no sample of that face.
+    bool lookup(int d, int i, int j, int face, RgbF& out) const;
+};
+
+// Everything walkthrough needs, in memory: made from a finished propagation or read back.
+struct Bake {
+    nlohmann::json manifest;
+    Scene scene;
+    PropagateParams params;
+    DirectionSet directions{9};
+    std::vector<Rgb> lightmap_radiance;  // per texel of every face (TextureMaps order), P^T radiance
+    std::vector<size_t> texel_offset;    // faces + 1
+    RayImages rays;
+};
+
+// In-memory bake from a finished propagation (no files).
+Bake make_bake(const Scene& scene, const PropagateParams& params, const Transport& transport,
+               const nlohmann::json& report);
+
+// Writes the bundle atomically; throws Error naming the path on failure.
+void write_bake(const std::string& path, const Bake& bake);
+
+// Reads and verifies a bundle; every defect (missing part, truncated or corrupted file,
+// checksum mismatch, other format version, manifest inconsistent with the files) throws
+// Error naming the bundle and the part.
+Bake read_bake(const std::string& path);
+
+// Scene <-> JSON (the self-contained normalised scene of the bundle), lossless.
+nlohmann::json scene_to_json(const Scene& scene);
+Scene scene_from_json(const nlohmann::json& j, const std::string& name);
+
+}  // namespace vlf

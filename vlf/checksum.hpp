@@ -1,0 +1,39 @@
+// checksum.hpp — SHA-256 (FIPS 180-4) for the bake bundle's file checksums (DESIGN §6:
+// "a checksum of every other file" in manifest.json). None of the project's dependencies
+// offers a hash, so this is a small, self-contained implementation tested against the
+// FIPS 180-4 / NIST example vectors (tests/bake_test.cpp).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace vlf {
+
+// Incremental SHA-256: update() any number of times, then digest() once.
+class Sha256 {
+  public:
+    Sha256();
+    void update(const void* data, size_t bytes);
+    void update(std::string_view s) { update(s.data(), s.size()); }
+    std::array<uint8_t, 32> digest();  // finalises; the object must not be updated after
+    std::string hex_digest();          // 64 lower-case hex digits
+
+  private:
+    void compress(const uint8_t* block);
+
+    std::array<uint32_t, 8> m_state;
+    std::array<uint8_t, 64> m_buffer{};
+    size_t m_buffered = 0;
+    uint64_t m_length = 0;  // bytes hashed so far
+};
+
+std::string sha256_hex(std::string_view data);
+
+// SHA-256 of a file's bytes; `bytes` receives its size. Throws Error naming the path when
+// the file cannot be read.
+std::string sha256_file(const std::string& path, uint64_t& bytes);
+
+}  // namespace vlf

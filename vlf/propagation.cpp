@@ -1,0 +1,90 @@
+#include "vlf/propagation.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "vlf/progress.hpp"
+#include "vlf/report.hpp"
+
+namespace vlf {
+
+Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Propagation run;
+    run.transport = std::make_unique<Transport>(scene, params);
+    Progress bar("propagating", params.cycles, opts.progress);
+    for (int c = 1; c <= params.cycles; ++c) {
+        run.transport->run_cycle(c == params.cycles);
+        bar.advance();
+        if (opts.on_cycle) opts.on_cycle(run.transport->ledger().back());
+    }
+    bar.finish();
+    run.seconds_total =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return run;
+}
+
+nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps) {
+    nlohmann::json faces = nlohmann::json::array();
+    const double s2 = scene.normalisation.scale * scene.normalisation.scale;
+    for (const Face& f : scene.faces) {
+        const Rgb total = TextureMaps::sum(maps.total, maps.begin(f.id), maps.count(f.id));
+        const Rgb mean = f.area > 0 ? total / (kPi * f.area) : Rgb(0.0);
+        Rgb lo(1e300), hi(-1e300);
+        const double half = 0.5 * f.texels.size * f.texels.size;
+        bool any = false;
+        for (size_t t = 0; t < maps.count(f.id); ++t) {
+            if (f.texel_area[t] < half) continue;
+            const Rgb r = maps.radiance(f, t);
+            lo = glm::min(lo, r);
+            hi = glm::max(hi, r);
+            any = true;
+        }
+        if (!any) lo = hi = mean;
+        faces.push_back({{"id", f.id},
+                         {"object", scene.objects[f.object].name},
+                         {"material", scene.materials[f.material].name},
+                         {"area", f.area / s2},
+                         {"radiance_mean", {mean.x, mean.y, mean.z}},
+                         {"radiance_min", {lo.x, lo.y, lo.z}},
+                         {"radiance_max", {hi.x, hi.y, hi.z}}});
+    }
+    return faces;
+}
+
+int64_t peak_rss_bytes() {
+    rusage u{};
+    if (getrusage(RUSAGE_SELF, &u) != 0) return 0;
+    return static_cast<int64_t>(u.ru_maxrss) * 1024;  // Linux: kilobytes
+}
+
+nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
+                                  const Propagation& run, double write_seconds) {
+    const Transport& t = *run.transport;
+    nlohmann::json ledger = nlohmann::json::array();
+    for (const LedgerEntry& e : t.ledger()) ledger.push_back(to_json(e));
+    const TransportTimings& tm = t.timings();
+    // Phase times are summed over worker threads (CPU seconds); total is wall time.
+    nlohmann::json timings = {{"setup", tm.setup},       {"rasterise", tm.rasterise},
+                              {"clipping", tm.clipping}, {"exchange", tm.exchange},
+                              {"specular", tm.specular}, {"filter", tm.filter},
+                              {"resample", tm.resample}, {"write", write_seconds},
+                              {"total", run.seconds_total + write_seconds}};
+    const auto& tex = t.texture_maps();
+    nlohmann::json memory = {
+        {"texture_maps", static_cast<int64_t>(tex.texels() * 3 * sizeof(Rgb))},
+        {"radiance_maps", t.specular_maps().bytes() + t.other_maps().bytes()},
+        {"coverage", static_cast<int64_t>(t.coverage().size() * sizeof(uint32_t))},
+        {"transport_total", t.memory_bytes()},
+        {"peak_rss", peak_rss_bytes()}};
+    return {{"parameters", to_json(params)},
+            {"scene", scene_summary(scene)},
+            {"ledger", ledger},
+            {"surfaces", surface_report(scene, tex)},
+            {"timings_s", timings},
+            {"memory_bytes", memory}};
+}
+
+}  // namespace vlf

@@ -1,0 +1,41 @@
+// propagation.hpp — a whole propagation run: cycles with progress and the per-cycle
+// ledger, then the report (DESIGN §5; issue "Propagation"): parameters, scene, ledger,
+// per-surface radiance, timings by phase, memory by structure and peak RSS.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "vlf/parameters.hpp"
+#include "vlf/scene.hpp"
+#include "vlf/transport.hpp"
+
+namespace vlf {
+
+struct RunOptions {
+    bool progress = false;                            // progress bar on stderr
+    std::function<void(const LedgerEntry&)> on_cycle; // called after every cycle
+};
+
+struct Propagation {
+    std::unique_ptr<Transport> transport;
+    double seconds_total = 0.0;
+};
+
+Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts);
+
+// Per face: {"id", "object", "material", "area", "radiance_mean", "radiance_min",
+// "radiance_max"} — outgoing diffuse radiance of P^T; min/max over texels at least half
+// inside the face; area in user units.
+nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps);
+
+nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
+                                  const Propagation& run, double write_seconds);
+
+// Peak resident set size of this process, bytes (0 when unknown).
+int64_t peak_rss_bytes();
+
+}  // namespace vlf

@@ -1,0 +1,539 @@
+#include "vlf/transport.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "vlf/error.hpp"
+#include "vlf/exchange.hpp"
+#include "vlf/gaussian_filter.hpp"
+#include "vlf/parallel.hpp"
+#include "vlf/perturbation.hpp"
+#include "vlf/psf.hpp"
+#include "vlf/rotation.hpp"
+#include "vlf/specular.hpp"
+#include "vlf/texel_clip.hpp"
+
+namespace vlf {
+
+namespace {
+
+// Directions are split into this many fixed chunks, independent of the thread count;
+// chunk accumulators are reduced in chunk order (determinism).
+constexpr int kChunks = 16;
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double luminance(const Rgb& c) { return (c.x + c.y + c.z) / 3.0; }
+
+struct Scratch {
+    std::vector<uint32_t> tile_base;
+    std::vector<Rgb> out, in;
+    std::vector<uint32_t> ov_begin;
+    std::vector<TexelOverlap> ov;
+    std::vector<uint32_t> face_begin;                  // faces + 1
+    std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
+    std::vector<double> colsum;
+    TileExchange x;
+    ExchangeScratch xs;
+};
+
+struct ChunkResult {
+    std::vector<Rgb> next;
+    Rgb absorbed{0.0}, escaped{0.0};
+    std::vector<SpecularSource> sources;
+    double rasterise = 0, clipping = 0, exchange = 0;
+};
+
+}  // namespace
+
+std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
+                                       int N, int m) {
+    const size_t nf = scene.faces.size();
+    std::vector<uint32_t> cov(rotations.size() * nf, 0);
+    parallel_for(0, static_cast<long>(rotations.size()), [&](long d) {
+        FaceRaster fr;
+        for (size_t f = 0; f < nf; ++f) {
+            rasterise_face(scene.faces[f], rotations[d], N, m, fr);
+            cov[size_t(d) * nf + f] = fr.covered;
+        }
+    });
+    return cov;
+}
+
+// Sum over the directions a face has rays in of |n . omega_d| * Delta_d: the denominator
+// of the diffuse share (VLF §4.4 eq. (3), the "total projected unit area", corrected for
+// unequal solid angles — §5). Restricting it to covered directions makes the shares of
+// every face sum to exactly 1.
+std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
+                                     const std::vector<Mat3>& rotations,
+                                     const std::vector<uint32_t>& coverage) {
+    const size_t nf = scene.faces.size();
+    std::vector<double> norm(nf, 0.0);
+    for (size_t f = 0; f < nf; ++f)
+        for (int d = 0; d < dirs.size(); ++d)
+            if (coverage[size_t(d) * nf + f] > 0)
+                norm[f] += std::abs((rotations[d] * scene.faces[f].normal).z) * dirs.solid_angle(d);
+    return norm;
+}
+
+Transport::Transport(const Scene& scene, const PropagateParams& params)
+    : m_scene(scene), m_params(params), m_dirs(params.field.directions, params.field.scheme) {
+    validate(params);
+    const auto t0 = Clock::now();
+    const int l = m_dirs.size();
+    m_rot.resize(l);
+    for (int d = 0; d < l; ++d) m_rot[d] = rotation_to_z(m_dirs.direction(d));
+    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile);
+    m_send_norm = send_normalisers(scene, m_dirs, m_rot, m_coverage);
+    m_tex = TextureMaps(scene);
+
+    const size_t nf = scene.faces.size();
+    std::vector<bool> spec(nf), other(nf);
+    double area = 0.0, refl = 0.0;
+    for (size_t f = 0; f < nf; ++f) {
+        const Material& mat = scene.material_of(scene.faces[f]);
+        spec[f] = mat.is_specular();
+        other[f] = params.store_all_rays && !spec[f];
+        area += scene.faces[f].area;
+        refl += scene.faces[f].area * luminance(mat.diffuse + mat.specular);
+    }
+    m_spec = RadianceMaps(scene, spec, l, m_coverage, true);
+    m_other = RadianceMaps(scene, other, l, m_coverage, false);
+    m_mean_reflectance = area > 0 ? refl / area : 0.0;  // VLF §4.5 eq. (4)
+    m_deferred.assign(nf, 0);
+    // Rim texels: the fraction of each texel inside its polygon, and for texels less than
+    // wholly inside, the nearest texel at least half inside (or the most-inside texel of a
+    // face too thin to have one), which takes the outside part of their beam overlaps.
+    m_inside.resize(m_tex.texels());
+    m_redirect.resize(m_tex.texels());
+    parallel_for(0, static_cast<long>(nf), [&](long fi) {
+        const Face& f = scene.faces[fi];
+        const int W = f.texels.width, H = f.texels.height;
+        const size_t b = m_tex.begin(int(fi));
+        const double cell = f.texels.size * f.texels.size;
+        double most = 0.0;
+        for (size_t k = 0; k < size_t(W) * H; ++k) {
+            m_inside[b + k] = static_cast<float>(std::min(1.0, f.texel_area[k] / cell));
+            most = std::max(most, double(m_inside[b + k]));
+        }
+        const float good = static_cast<float>(std::min(0.5, most));
+        for (int j = 0; j < H; ++j)
+            for (int i = 0; i < W; ++i) {
+                const size_t k = size_t(j) * W + i;
+                m_redirect[b + k] = static_cast<uint32_t>(k);
+                if (m_inside[b + k] >= 1.0f || m_inside[b + k] >= good) {
+                    if (m_inside[b + k] >= 1.0f) continue;
+                }
+                double best = 1e300;
+                uint32_t pick = static_cast<uint32_t>(k);
+                for (int r = 1; r < std::max(W, H) && best > double(r - 1) * (r - 1); ++r)
+                    for (int y = std::max(0, j - r); y <= std::min(H - 1, j + r); ++y)
+                        for (int x = std::max(0, i - r); x <= std::min(W - 1, i + r); ++x) {
+                            if (std::max(std::abs(x - i), std::abs(y - j)) != r) continue;
+                            const size_t q = size_t(y) * W + x;
+                            const double d2 = double(x - i) * (x - i) + double(y - j) * (y - j);
+                            if (m_inside[b + q] >= good && m_inside[b + q] > m_inside[b + k] &&
+                                d2 < best) {
+                                best = d2;
+                                pick = static_cast<uint32_t>(q);
+                            }
+                        }
+                m_redirect[b + k] = pick;
+            }
+    });
+    m_timings.setup = since(t0);
+}
+
+double Transport::to_user_power() const {
+    const double s = m_scene.normalisation.scale;
+    return 1.0 / (s * s);
+}
+
+int64_t Transport::memory_bytes() const {
+    return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
+           m_other.bytes() + static_cast<int64_t>(m_coverage.size() * sizeof(uint32_t)) +
+           static_cast<int64_t>(kChunks * m_tex.texels() * sizeof(Rgb));
+}
+
+void Transport::load_emission(LedgerEntry& e) {
+    for (const Face& f : m_scene.faces) {
+        const Material& mat = m_scene.material_of(f);
+        if (!mat.is_emitter()) continue;
+        const size_t b = m_tex.begin(f.id);
+        for (size_t t = 0; t < m_tex.count(f.id); ++t) {
+            // Exitance M = pi * Le of a Lambertian emitter, times the texel's area inside
+            // the face: the texel's emitted power.
+            const Rgb p = mat.emission * (kPi * f.texel_area[t]);
+            m_tex.current[b + t] += p;
+            m_tex.total[b + t] += p;
+            e.emitted += p;
+        }
+    }
+}
+
+// VLF §4.5: a face whose unshot power is small against what the scene as a whole is
+// expected to hold next cycle (rho_S times today's mean unshot exitance, eq. (4)) keeps
+// accumulating instead of shooting. kappa < 1 keeps the threshold conservative.
+void Transport::choose_deferred(bool last) {
+    std::fill(m_deferred.begin(), m_deferred.end(), 0);
+    if (!m_params.deferred || last || m_ledger.empty()) return;
+    constexpr double kappa = 0.5;
+    double unshot = 0.0, area = 0.0;
+    std::vector<double> u(m_scene.faces.size());
+    for (const Face& f : m_scene.faces) {
+        u[f.id] = luminance(TextureMaps::sum(m_tex.current, m_tex.begin(f.id), m_tex.count(f.id)));
+        unshot += u[f.id];
+        area += f.area;
+    }
+    if (unshot <= 0.0) return;
+    const double mean_exitance = unshot / area;
+    for (const Face& f : m_scene.faces)
+        if (u[f.id] > 0.0 && u[f.id] < kappa * m_mean_reflectance * mean_exitance * f.area)
+            m_deferred[f.id] = 1;
+}
+
+void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<double>& send_norm,
+                         const std::vector<uint32_t>& coverage, double share,
+                         bool true_directions, LedgerEntry& e) {
+    const Scene& scene = m_scene;
+    const int N = m_params.field.resolution, m = m_params.field.tile;
+    const int l = static_cast<int>(rotations.size());
+    const size_t nf = scene.faces.size();
+    const double ray_area = 4.0 / (double(N) * N);
+
+    // Which faces send diffuse power this pass.
+    std::vector<uint8_t> sends(nf, 0);
+    for (size_t f = 0; f < nf; ++f) {
+        if (m_deferred[f]) continue;
+        const Rgb u = TextureMaps::sum(m_tex.current, m_tex.begin(int(f)), m_tex.count(int(f)));
+        sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
+    }
+    std::vector<ChunkResult> chunks(kChunks);
+    parallel_for(0, kChunks, [&](long c) {
+        ChunkResult& res = chunks[c];
+        res.next.assign(m_tex.texels(), Rgb(0.0));
+        Scratch w;
+        const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
+        for (int d = d0; d < d1; ++d) {
+            auto t0 = Clock::now();
+            const Mat3& rot = rotations[d];
+            const Psf psf = rasterise_psf(scene, rot, d, N, m);
+            const Vec3 omega = psf.omega;
+            const double beam = ray_area * m_dirs.solid_angle(d);  // a * Delta_d
+            // Slots: tile_base[ti] + fragment.ray_offset + k.
+            w.tile_base.resize(psf.tiles.size() + 1);
+            w.tile_base[0] = 0;
+            for (size_t ti = 0; ti < psf.tiles.size(); ++ti)
+                w.tile_base[ti + 1] = w.tile_base[ti] + psf.tiles[ti].covered;
+            const uint32_t S = w.tile_base.back();
+            w.out.assign(S, Rgb(0.0));
+            w.in.assign(S, Rgb(0.0));
+            // Fragments grouped by face, in tile order.
+            w.face_begin.assign(nf + 1, 0);
+            for (const Tile& t : psf.tiles)
+                for (const Fragment& f : t.fragments) ++w.face_begin[f.face + 1];
+            for (size_t f = 0; f < nf; ++f) w.face_begin[f + 1] += w.face_begin[f];
+            w.frags.resize(w.face_begin[nf]);
+            {
+                std::vector<uint32_t> cur(w.face_begin.begin(), w.face_begin.end() - 1);
+                for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti)
+                    for (uint32_t fi = 0; fi < psf.tiles[ti].fragments.size(); ++fi)
+                        w.frags[cur[psf.tiles[ti].fragments[fi].face]++] = {ti, fi};
+            }
+            res.rasterise += since(t0);
+
+            // 1. Clip the beams of faces with a diffuse role against their texel grids.
+            t0 = Clock::now();
+            w.ov_begin.assign(S + 1, 0);
+            w.ov.clear();
+            for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
+                const Tile& tile = psf.tiles[ti];
+                for (const Fragment& fr : tile.fragments) {
+                    const Face& face = scene.faces[fr.face];
+                    const bool diffuse_role = sends[fr.face] || scene.material_of(face).is_diffuse();
+                    const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                    if (!diffuse_role) {
+                        for (uint32_t k = 0; k < fr.covered; ++k)
+                            w.ov_begin[base + k + 1] = static_cast<uint32_t>(w.ov.size());
+                        continue;
+                    }
+                    const PsfToTexel map = psf_to_texel(face, rot);
+                    const size_t tb = m_tex.begin(face.id);
+                    tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                        const size_t first = w.ov.size();
+                        pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N,
+                                             face.texels.width, face.texels.height, w.ov);
+                        // The part of an overlap that falls outside the polygon (rim
+                        // texels) goes to the nearest texel mostly inside it: beams that
+                        // spill over the rim put their power next to the rim, where the
+                        // beams whose centres missed the face left a gap.
+                        const size_t last = w.ov.size();
+                        for (size_t q = first; q < last; ++q) {
+                            const uint32_t t = w.ov[q].texel;
+                            const uint32_t r = m_redirect[tb + t];
+                            if (r == t) continue;
+                            const float keep = m_inside[tb + t];
+                            if (keep <= 0.0f) {
+                                w.ov[q].texel = r;
+                                continue;
+                            }
+                            w.ov.push_back({r, w.ov[q].area * (1.0f - keep)});
+                            w.ov[q].area *= keep;
+                        }
+                        w.ov_begin[base + k + 1] = static_cast<uint32_t>(w.ov.size());
+                    });
+                }
+            }
+            res.clipping += since(t0);
+
+            // 2. Senders load their rays.
+            t0 = Clock::now();
+            for (size_t f = 0; f < nf; ++f) {
+                const uint32_t fb = w.face_begin[f], fe = w.face_begin[f + 1];
+                if (fb == fe) continue;
+                const Face& face = scene.faces[f];
+                const bool spec_store = true_directions && m_spec.stores(int(f));
+                const bool other_store = true_directions && m_other.stores(int(f));
+                if (sends[f]) {
+                    const double nz = std::abs((rot * face.normal).z);
+                    const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
+                    const size_t tb = m_tex.begin(int(f)), tc = m_tex.count(int(f));
+                    w.colsum.assign(tc, 0.0);
+                    uint32_t rays = 0;
+                    for (uint32_t q = fb; q < fe; ++q) {
+                        const auto [ti, fi] = w.frags[q];
+                        const Fragment& fr = psf.tiles[ti].fragments[fi];
+                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        for (uint32_t k = 0; k < fr.covered; ++k)
+                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o)
+                                w.colsum[w.ov[o].texel] += w.ov[o].area;
+                        rays += fr.covered;
+                    }
+                    // Texels whose beams miss every covered ray here (slivers at the rim)
+                    // still send their share: spread evenly over the face's rays.
+                    Rgb orphan(0.0);
+                    for (size_t t = 0; t < tc; ++t)
+                        if (w.colsum[t] <= 0.0) orphan += m_tex.current[tb + t];
+                    const Rgb even = orphan * (wd / rays);
+                    for (uint32_t q = fb; q < fe; ++q) {
+                        const auto [ti, fi] = w.frags[q];
+                        const Fragment& fr = psf.tiles[ti].fragments[fi];
+                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        for (uint32_t k = 0; k < fr.covered; ++k) {
+                            Rgb p = even;
+                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o) {
+                                const TexelOverlap& ov = w.ov[o];
+                                p += m_tex.current[tb + ov.texel] * (wd * ov.area / w.colsum[ov.texel]);
+                            }
+                            w.out[base + k] += p;
+                        }
+                    }
+                }
+                if (spec_store || other_store) {
+                    RadianceMaps& maps = spec_store ? m_spec : m_other;
+                    const uint64_t mb = maps.begin(d, int(f));
+                    VLF_CHECK(maps.count(d, int(f)) == coverage[size_t(d) * nf + f]);
+                    uint64_t kl = 0;
+                    for (uint32_t q = fb; q < fe; ++q) {
+                        const auto [ti, fi] = w.frags[q];
+                        const Fragment& fr = psf.tiles[ti].fragments[fi];
+                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
+                            Rgb& o = w.out[base + k];
+                            if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
+                            maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
+                        }
+                    }
+                }
+            }
+
+            // 3. Exchange along every ray of every tile.
+            for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
+                const Tile& tile = psf.tiles[ti];
+                build_exchange(scene, psf, tile, w.x, w.xs);
+                const uint32_t tb = w.tile_base[ti];
+                for (const Fragment& fr : tile.fragments) {
+                    for (uint32_t k = 0; k < fr.covered; ++k) {
+                        const uint32_t slot = tb + fr.ray_offset + k;
+                        const int32_t p = w.x.partner[fr.ray_offset + k];
+                        if (p >= 0) {
+                            w.in[slot] = w.out[tb + tile.fragments[p].ray_offset +
+                                               w.x.partner_ray[fr.ray_offset + k]];
+                        } else if (p == kEscaped) {
+                            res.escaped += w.out[slot];
+                        } else {
+                            res.absorbed += w.out[slot];  // onto a back face
+                        }
+                    }
+                }
+            }
+            res.exchange += since(t0);
+
+            // 4. Receivers.
+            t0 = Clock::now();
+            for (size_t f = 0; f < nf; ++f) {
+                const uint32_t fb = w.face_begin[f], fe = w.face_begin[f + 1];
+                if (fb == fe) continue;
+                const Face& face = scene.faces[f];
+                const Material& mat = scene.material_of(face);
+                Rgb received(0.0);
+                int imin = N, imax = -1, jmin = N, jmax = -1;
+                for (uint32_t q = fb; q < fe; ++q) {
+                    const auto [ti, fi] = w.frags[q];
+                    const Tile& tile = psf.tiles[ti];
+                    const Fragment& fr = tile.fragments[fi];
+                    const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                    for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
+                    imin = std::min(imin, tile.s * m);
+                    imax = std::max(imax, tile.s * m + m - 1);
+                    jmin = std::min(jmin, tile.t * m + fr.row_begin);
+                    jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
+                }
+                if (received.x <= 0 && received.y <= 0 && received.z <= 0) continue;
+                res.absorbed += received * (Rgb(1.0) - mat.diffuse - mat.specular);
+                if (mat.is_diffuse()) {
+                    // The temporary radiance tile onto P^N (§4.2): each beam's power
+                    // over the texels its footprint overlaps, by overlap area.
+                    const size_t tb = m_tex.begin(int(f));
+                    for (uint32_t q = fb; q < fe; ++q) {
+                        const auto [ti, fi] = w.frags[q];
+                        const Fragment& fr = psf.tiles[ti].fragments[fi];
+                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        for (uint32_t k = 0; k < fr.covered; ++k) {
+                            const Rgb p = w.in[base + k] * mat.diffuse;
+                            if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
+                            double rowsum = 0.0;
+                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o)
+                                rowsum += w.ov[o].area;
+                            if (rowsum <= 0.0) {
+                                res.absorbed += p;  // degenerate footprint
+                                continue;
+                            }
+                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o)
+                                res.next[tb + w.ov[o].texel] += p * (w.ov[o].area / rowsum);
+                        }
+                    }
+                }
+                if (mat.is_specular()) {
+                    SpecularSource src;
+                    src.face = int(f);
+                    src.rotation = rot;
+                    src.power = received * mat.specular;
+                    const int facing = (rot * face.normal).z > 0 ? 1 : -1;
+                    const Vec3 incoming = omega * double(-facing);  // light travels towards the face
+                    src.targets = specular_targets(m_dirs, face, incoming, m_coverage, nf,
+                                                   src.target_direction, src.target_weight);
+                    if (src.targets == 0) {
+                        res.absorbed += src.power;  // grazing: no PSF can carry it
+                        continue;
+                    }
+                    src.i0 = imin;
+                    src.j0 = jmin;
+                    src.width = imax - imin + 1;
+                    src.height = jmax - jmin + 1;
+                    src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
+                    src.covered.assign(size_t(src.width) * src.height, 0);
+                    for (uint32_t q = fb; q < fe; ++q) {
+                        const auto [ti, fi] = w.frags[q];
+                        const Tile& tile = psf.tiles[ti];
+                        const Fragment& fr = tile.fragments[fi];
+                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                            const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
+                                              (tile.s * m + u - src.i0);
+                            src.radiance[at] = RgbF(w.in[base + k] / beam);
+                            src.covered[at] = 1;
+                        });
+                    }
+                    res.sources.push_back(std::move(src));
+                }
+            }
+            res.exchange += since(t0);
+        }
+    });
+
+    // Reductions, in chunk order.
+    for (ChunkResult& c : chunks) {
+        for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
+        m_running.absorbed += c.absorbed;
+        m_running.escaped += c.escaped;
+        m_timings.rasterise += c.rasterise;
+        m_timings.clipping += c.clipping;
+        m_timings.exchange += c.exchange;
+    }
+    std::vector<SpecularSource> sources;
+    for (ChunkResult& c : chunks)
+        for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
+    const auto t0 = Clock::now();
+    if (!sources.empty())
+        gather_specular(scene, m_dirs, m_rot, N, m, sources, m_spec);
+    m_timings.specular += since(t0);
+    (void)e;
+}
+
+void Transport::run_cycle(bool last) {
+    LedgerEntry e;
+    e.cycle = cycles_done() + 1;
+    if (e.cycle == 1) load_emission(m_running);
+    choose_deferred(last);
+    for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
+
+    const int P = m_params.perturbations;
+    const double share = 1.0 / (P + 1);
+    run_pass(m_rot, m_send_norm, m_coverage, share, true, e);
+    for (int p = 1; p <= P; ++p) {
+        // VLF §5: the whole direction set rotated by a stratified random rotation inside
+        // the mean solid angle; diffuse transfers only, no L_T update.
+        const Mat3 r = perturbation_rotation(m_dirs, m_params.seed, e.cycle, p, P);
+        std::vector<Mat3> rots(m_rot.size());
+        for (size_t d = 0; d < rots.size(); ++d) rots[d] = rotation_to_z(r * m_dirs.direction(int(d)));
+        const auto cov = measure_coverage(m_scene, rots, m_params.field.resolution, m_params.field.tile);
+        const auto norm = send_normalisers(m_scene, m_dirs, rots, cov);
+        run_pass(rots, norm, cov, share, false, e);
+    }
+
+    // End of cycle: filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
+    auto t0 = Clock::now();
+    if (m_params.filter_sigma > 0.0) gaussian_filter_next(m_scene, m_tex, m_params.filter_sigma);
+    m_timings.filter += since(t0);
+    Rgb unshot(0.0), deferred(0.0);
+    for (const Face& f : m_scene.faces) {
+        const size_t b = m_tex.begin(f.id), n = m_tex.count(f.id);
+        for (size_t t = b; t < b + n; ++t) {
+            m_tex.total[t] += m_tex.next[t];
+            if (m_deferred[f.id]) {
+                m_tex.current[t] += m_tex.next[t];
+                deferred += m_tex.current[t];
+            } else {
+                m_tex.current[t] = m_tex.next[t];
+                unshot += m_tex.current[t];
+            }
+            m_tex.next[t] = Rgb(0.0);
+        }
+    }
+    std::swap(m_spec.unshot, m_spec.unshot_next);
+    const double ray_area = 4.0 / (double(m_params.field.resolution) * m_params.field.resolution);
+    for (int d = 0; d < m_dirs.size(); ++d) {
+        const double beam = ray_area * m_dirs.solid_angle(d);
+        for (int f : m_spec.faces) {
+            const uint64_t b = m_spec.begin(d, f), n = m_spec.count(d, f);
+            for (uint64_t k = b; k < b + n; ++k) unshot += Rgb(m_spec.unshot[k]) * beam;
+        }
+    }
+    const double u = to_user_power();
+    e.emitted = m_running.emitted * u;
+    e.absorbed = m_running.absorbed * u;
+    e.escaped = m_running.escaped * u;
+    e.unshot = unshot * u;
+    e.deferred = deferred * u;
+    m_ledger.push_back(e);
+}
+
+}  // namespace vlf

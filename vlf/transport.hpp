@@ -1,0 +1,99 @@
+// transport.hpp — the propagation cycles of VLF §4.1 with the transfers of §4.2–4.4, in
+// power units (DESIGN §5).
+//
+// One cycle, for every direction (in parallel over fixed chunks of directions):
+//   1. rasterise the PSF; per face, clip every covered ray's beam against the face's
+//      texel grid (§4.2 continuous clipping) — the weights serve both sending and receiving;
+//   2. senders load their rays: diffuse texels share their unshot power U over the travel
+//      directions on their front side by cos(theta_d) * Delta_d / sum_d' cos * Delta
+//      (§4.4 eq. (3), solid-angle corrected), within a direction over the rays their beam
+//      overlaps, by overlap area; specular faces add L_U * a * Delta; L_T += the ray's
+//      radiance (§4.1 line 9);
+//   3. exchange per tile: each ray's power moves to the facing fragment X(P) (§4.1 lines
+//      5–8); rays leaving the scene are escaped, rays hitting a back face are absorbed;
+//   4. receivers: rho_d of the power goes to P^N over the texels the beam overlaps (§4.1
+//      line 10, the temporary radiance tile), (1 - rho_d - rho_s) is absorbed, rho_s is
+//      reflected into the unshot maps of the enclosing mirror directions (specular.hpp).
+// Then P^T += P^N; P^C <- P^N (or kept, for deferred faces, §4.5); L_U <- L_U next.
+//
+// The reductions are explicit: chunk accumulators of P^N and of the ledger are summed in
+// chunk order, specular deposits are gathered per target; so the maps after a cycle do not
+// depend on the number of threads (DESIGN §5 Parallelism).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vlf/direction_set.hpp"
+#include "vlf/ledger.hpp"
+#include "vlf/parameters.hpp"
+#include "vlf/radiance_maps.hpp"
+#include "vlf/scene.hpp"
+#include "vlf/texture_maps.hpp"
+
+namespace vlf {
+
+// Rays each face covers in each PSF: coverage[d * faces + f].
+std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
+                                       int resolution, int tile);
+// Per face: sum over covered directions of |n . omega_d| * Delta_d (VLF §4.4 eq. (3)).
+std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
+                                     const std::vector<Mat3>& rotations,
+                                     const std::vector<uint32_t>& coverage);
+
+struct TransportTimings {
+    double setup = 0, rasterise = 0, clipping = 0, exchange = 0, specular = 0, filter = 0;
+    double resample = 0;
+};
+
+class Transport {
+public:
+    Transport(const Scene& scene, const PropagateParams& params);
+
+    // Runs cycle `cycles_done() + 1`; `last` disables deferral (all faces shoot).
+    void run_cycle(bool last);
+    int cycles_done() const { return static_cast<int>(m_ledger.size()); }
+    const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
+
+    const Scene& scene() const { return m_scene; }
+    const DirectionSet& directions() const { return m_dirs; }
+    const TextureMaps& texture_maps() const { return m_tex; }
+    const RadianceMaps& specular_maps() const { return m_spec; }
+    RadianceMaps& specular_maps() { return m_spec; }
+    const RadianceMaps& other_maps() const { return m_other; }
+    const std::vector<Mat3>& rotations() const { return m_rot; }
+    const std::vector<uint32_t>& coverage() const { return m_coverage; }
+    const TransportTimings& timings() const { return m_timings; }
+    int64_t memory_bytes() const;
+    // Faces deferred in the last cycle run (VLF §4.5).
+    const std::vector<uint8_t>& deferred() const { return m_deferred; }
+    // Ledger values are kept in normalised units internally; this converts a power to
+    // the user's units (area scale^-2).
+    double to_user_power() const;
+
+private:
+    void load_emission(LedgerEntry& e);
+    void choose_deferred(bool last);
+    void run_pass(const std::vector<Mat3>& rotations, const std::vector<double>& send_norm,
+                  const std::vector<uint32_t>& coverage, double share, bool true_directions,
+                  LedgerEntry& e);
+
+    const Scene& m_scene;
+    PropagateParams m_params;
+    DirectionSet m_dirs;
+    std::vector<Mat3> m_rot;             // per direction
+    std::vector<uint32_t> m_coverage;    // d * faces + f: covered rays
+    std::vector<double> m_send_norm;     // per face: sum_d |n . omega_d| Delta_d over covered d
+    TextureMaps m_tex;
+    RadianceMaps m_spec;                 // L_U, L_T of specular faces
+    RadianceMaps m_other;                // L_T of the other faces (--store-all-rays)
+    std::vector<uint8_t> m_deferred;     // per face, this cycle
+    std::vector<float> m_inside;         // per texel: fraction inside its polygon
+    std::vector<uint32_t> m_redirect;    // per texel: where its outside part's share goes
+    std::vector<LedgerEntry> m_ledger;
+    LedgerEntry m_running;               // cumulative absorbed/escaped/emitted
+    double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
+    TransportTimings m_timings;
+};
+
+}  // namespace vlf
