@@ -3,11 +3,15 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdio>
 #include <string>
 
 #include "vlf/error.hpp"
+#include "vlf/bake.hpp"
 #include "vlf/light_field.hpp"
+#include "vlf/progress.hpp"
+#include "vlf/propagation.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/parameters.hpp"
 #include "vlf/report.hpp"
@@ -35,24 +39,50 @@ int run(const Options& o) {
     vlf::validate(p);
     if (!o.dry_run && o.output.empty())
         throw vlf::ParameterError("-o/--output: required unless --dry-run is given");
+    if (!o.output.empty()) vlf::check_output_path(o.output);
+    if (!o.report.empty()) vlf::check_output_path(o.report);
 
     vlf::LoadOptions load;
     load.texel_size_user = p.texel_size;
     const vlf::Scene scene = vlf::load_scene(o.scene, load);
-
     vlf::ThreadLimit limit(p.threads);
-    const vlf::FieldStats stats = vlf::measure_field(scene, p.field);
     std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
-    std::fputs(vlf::format_field_stats(stats).c_str(), stdout);
-    if (!o.report.empty()) {
-        nlohmann::json j = {{"scene", vlf::scene_summary(scene)},
-                            {"field", vlf::to_json(stats)},
-                            {"parameters", vlf::to_json(p)}};
-        vlf::write_json_atomically(o.report, j);
-        std::printf("report     %s\n", o.report.c_str());
+
+    if (o.dry_run) {
+        const vlf::FieldStats stats = vlf::measure_field(scene, p.field);
+        std::fputs(vlf::format_field_stats(stats).c_str(), stdout);
+        if (!o.report.empty()) {
+            vlf::write_json_atomically(o.report, {{"scene", vlf::scene_summary(scene)},
+                                                  {"field", vlf::to_json(stats)},
+                                                  {"parameters", vlf::to_json(p)}});
+            std::printf("report     %s\n", o.report.c_str());
+        }
+        return 0;
     }
-    if (o.dry_run) return 0;
-    throw vlf::ParameterError("propagation needs the transport module, which this build lacks; use --dry-run");
+
+    vlf::RunOptions run_opts;
+    run_opts.progress = !o.quiet && vlf::Progress::stderr_is_terminal();
+    run_opts.on_cycle = [&](const vlf::LedgerEntry& e) {
+        if (!o.quiet) {
+            if (run_opts.progress) std::fputs("\r\033[K", stderr);
+            std::printf("%s\n", vlf::format_ledger(e).c_str());
+            std::fflush(stdout);
+        }
+    };
+    vlf::Propagation run = vlf::propagate(scene, p, run_opts);
+    const auto t0 = std::chrono::steady_clock::now();
+    nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0);
+    const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report);
+    vlf::write_bake(o.output, bake);
+    const double write_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    report["timings_s"]["write"] = write_s;
+    report["timings_s"]["total"] = run.seconds_total + write_s;
+    if (!o.report.empty()) vlf::write_json_atomically(o.report, report);
+    std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
+                write_s, o.output.c_str());
+    if (!o.report.empty()) std::printf("report     %s\n", o.report.c_str());
+    return 0;
 }
 
 }  // namespace

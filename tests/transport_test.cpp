@@ -121,7 +121,7 @@ TEST(TransportFurnace, EveryTexelReachesTheGeometricSeries) {
             for (int c = 0; c < 3; ++c) {
                 const double expect = le[c] * (1 - std::pow(rho[c], C + 1)) / (1 - rho[c]);
                 worst = std::max(worst, std::abs(r[c] / expect - 1.0));
-                if (c == 0 && std::getenv("VLF_DEBUG"))
+                if (c == 2 && std::getenv("VLF_DEBUG"))
                     std::printf("face %d texel %zu (%d,%d of %dx%d) inside %.2f ratio %.4f\n", f.id, k,
                                 int(k % f.texels.width), int(k / f.texels.width), f.texels.width,
                                 f.texels.height, f.texel_area[k] / (f.texels.size * f.texels.size),

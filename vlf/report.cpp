@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include "vlf/error.hpp"
 
 namespace vlf {
@@ -82,6 +84,19 @@ std::string format_field_stats(const FieldStats& s) {
         format_bytes(m.directions), format_bytes(m.tiles), format_bytes(m.fragments),
         format_bytes(m.edge_tables), format_bytes(m.radiance_maps), format_bytes(m.texture_maps),
         s.seconds);
+}
+
+void check_output_path(const std::string& path) {
+    namespace fs = std::filesystem;
+    fs::path p(path);
+    fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        throw ParameterError(fmt::format("{}: cannot write: directory {} does not exist", path,
+                                         dir.string()));
+    if (access(dir.c_str(), W_OK) != 0)
+        throw ParameterError(fmt::format("{}: cannot write: directory {} is not writable", path,
+                                         dir.string()));
 }
 
 void write_json_atomically(const std::string& path, const nlohmann::json& j) {

@@ -56,6 +56,7 @@ public:
     const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
 
     const Scene& scene() const { return m_scene; }
+    const PropagateParams& params() const { return m_params; }
     const DirectionSet& directions() const { return m_dirs; }
     const TextureMaps& texture_maps() const { return m_tex; }
     const RadianceMaps& specular_maps() const { return m_spec; }
