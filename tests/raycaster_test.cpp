@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "test_util.hpp"
+#include "vlf/error.hpp"
 #include "vlf/lightmap.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/propagation.hpp"
@@ -126,7 +127,7 @@ TEST(RayCaster, EmptySceneMissesEverything) {
 TEST(RayCaster, NonFiniteVertexThrows) {
     Scene s = make_cube(0.5);
     s.faces[2].vertices[1].x = std::nan("");
-    EXPECT_THROW(RayCaster rc(s), Error);
+    EXPECT_THROW({ const RayCaster rc(s); }, Error);
 }
 
 TEST(RayCaster, RandomRaysAgreeWithBruteForce) {
@@ -183,7 +184,9 @@ TEST(RayCaster, RandomRaysAgreeWithBruteForce) {
             ASSERT_TRUE(hit_polygon(s.faces[hits[i].face], r.o, r.d, 1e-7, t)) << i;
             EXPECT_NEAR(t, strict.t, 1e-9) << i;
         }
-        if (std::abs(strict.t - r.tmax) > 1e-5) EXPECT_EQ(bool(occ[i]), strict.t <= r.tmax) << i;
+        if (std::abs(strict.t - r.tmax) > 1e-5) {
+            EXPECT_EQ(bool(occ[i]), strict.t <= r.tmax) << i;
+        }
     }
     EXPECT_GT(hits_n, 5000);
     EXPECT_GT(misses_n, 200);

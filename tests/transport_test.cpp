@@ -106,9 +106,10 @@ TEST(TransportFurnace, EveryTexelReachesTheGeometricSeries) {
       "settings": {"texel_size": 0.1}
     })");
     const int C = 3;
+    // Super-sampled exchange (§5), 4 x 4 at polygon rims: without it the rim texels of the
+    // small block are off by 2.6 % (1.3 % with 2 x 2), the error of the N = 64 pixel grid.
     PropagateParams p = params(513, 64, 8, C);
-    if (const char* e = std::getenv("VLF_N")) p.field.resolution = std::atoi(e);
-    if (const char* e = std::getenv("VLF_L")) p.field.directions = std::atoi(e);
+    p.supersample = 4;
     const auto t = run(scene, p);
     const TextureMaps& tex = t->texture_maps();
     const Rgb rho(0.5, 0.3, 0.8), le(1, 2, 0.5);
@@ -121,11 +122,6 @@ TEST(TransportFurnace, EveryTexelReachesTheGeometricSeries) {
             for (int c = 0; c < 3; ++c) {
                 const double expect = le[c] * (1 - std::pow(rho[c], C + 1)) / (1 - rho[c]);
                 worst = std::max(worst, std::abs(r[c] / expect - 1.0));
-                if (c == 2 && std::getenv("VLF_DEBUG"))
-                    std::printf("face %d texel %zu (%d,%d of %dx%d) inside %.2f ratio %.4f\n", f.id, k,
-                                int(k % f.texels.width), int(k / f.texels.width), f.texels.width,
-                                f.texels.height, f.texel_area[k] / (f.texels.size * f.texels.size),
-                                r[c] / expect);
             }
             ++texels;
         }

@@ -30,9 +30,13 @@ void validate(const PropagateParams& p) {
     if (!(p.filter_sigma >= 0.0) || p.filter_sigma > 16.0)
         throw ParameterError(
             fmt::format("--filter-sigma: {} is out of range (0 to 16 texels)", p.filter_sigma));
-    if (p.supersample < 1 || p.supersample > 16)
+    if (p.supersample < 1 || p.supersample > 8)
         throw ParameterError(
-            fmt::format("--supersample: {} is out of range (1 to 16)", p.supersample));
+            fmt::format("--supersample: {} is out of range (1 to 8)", p.supersample));
+    if (p.field.resolution * p.supersample > 4096)
+        throw ParameterError(fmt::format(
+            "--supersample: N x s = {} x {} exceeds the 4096-ray limit of a PSF side",
+            p.field.resolution, p.supersample));
 }
 
 nlohmann::json to_json(const FieldParams& p) {

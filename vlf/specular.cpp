@@ -119,8 +119,8 @@ void gather_specular(const Scene& scene, const DirectionSet& dirs,
                 Rgb total(0.0);
                 for (size_t k = 0; k < points.size(); ++k) {
                     const Vec3 q = src.rotation * points[k];
-                    const int i = static_cast<int>(std::floor((q.x + 1.0) * 0.5 * N));
-                    const int j = static_cast<int>(std::floor((q.y + 1.0) * 0.5 * N));
+                    const int i = static_cast<int>(std::floor((q.x + 1.0) * 0.5 * src.resolution));
+                    const int j = static_cast<int>(std::floor((q.y + 1.0) * 0.5 * src.resolution));
                     RgbF value;
                     g[k] = sample_source(src, i, j, value) ? Rgb(value) : Rgb(0.0);
                     total += g[k];

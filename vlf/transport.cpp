@@ -42,6 +42,10 @@ struct Scratch {
     std::vector<double> colsum;
     TileExchange x;
     ExchangeScratch xs;
+    FaceRaster coarse;                 // super-sampling: the face on the N x N grid
+    std::vector<int32_t> coarse_index;
+    std::vector<Rgb> parent_sum;
+    std::vector<int> parent_count;
 };
 
 struct ChunkResult {
@@ -91,7 +95,13 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_rot.resize(l);
     for (int d = 0; d < l; ++d) m_rot[d] = rotation_to_z(m_dirs.direction(d));
     m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile);
-    m_send_norm = send_normalisers(scene, m_dirs, m_rot, m_coverage);
+    // Super-sampled exchange (§5): every pass runs on an s-times finer ray grid; the
+    // directional radiance maps stay on the N x N grid.
+    const int s = params.supersample;
+    m_send_norm = s == 1 ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
+                         : send_normalisers(scene, m_dirs, m_rot,
+                                            measure_coverage(scene, m_rot, params.field.resolution * s,
+                                                             params.field.tile * s));
     m_tex = TextureMaps(scene);
 
     const size_t nf = scene.faces.size();
@@ -203,7 +213,9 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                          const std::vector<uint32_t>& coverage, double share,
                          bool true_directions, LedgerEntry& e) {
     const Scene& scene = m_scene;
-    const int N = m_params.field.resolution, m = m_params.field.tile;
+    const int s = m_params.supersample;
+    const int Nc = m_params.field.resolution, mc = m_params.field.tile;  // radiance-map grid
+    const int N = Nc * s, m = mc * s;                                    // exchange grid
     const int l = static_cast<int>(rotations.size());
     const size_t nf = scene.faces.size();
     const double ray_area = 4.0 / (double(N) * N);
@@ -297,10 +309,20 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
             t0 = Clock::now();
             for (size_t f = 0; f < nf; ++f) {
                 const uint32_t fb = w.face_begin[f], fe = w.face_begin[f + 1];
-                if (fb == fe) continue;
                 const Face& face = scene.faces[f];
                 const bool spec_store = true_directions && m_spec.stores(int(f));
                 const bool other_store = true_directions && m_other.stores(int(f));
+                if (fb == fe) {
+                    // A sliver with rays on the N x N grid but none on the finer exchange
+                    // grid: its unshot specular light cannot leave; the ledger absorbs it.
+                    if (spec_store && m_coverage[size_t(d) * nf + f] > 0) {
+                        const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
+                        const uint64_t mb = m_spec.begin(d, int(f));
+                        for (uint64_t k = 0; k < m_spec.count(d, int(f)); ++k)
+                            res.absorbed += Rgb(m_spec.unshot[mb + k]) * beam_c;
+                    }
+                    continue;
+                }
                 if (sends[f]) {
                     const double nz = std::abs((rot * face.normal).z);
                     const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
@@ -336,10 +358,10 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         }
                     }
                 }
-                if (spec_store || other_store) {
+                if ((spec_store || other_store) && s == 1) {
                     RadianceMaps& maps = spec_store ? m_spec : m_other;
                     const uint64_t mb = maps.begin(d, int(f));
-                    VLF_CHECK(maps.count(d, int(f)) == coverage[size_t(d) * nf + f]);
+                    VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
                     uint64_t kl = 0;
                     for (uint32_t q = fb; q < fe; ++q) {
                         const auto [ti, fi] = w.frags[q];
@@ -351,6 +373,79 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                             maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
                         }
                     }
+                } else if (spec_store || other_store) {
+                    // Super-sampled: each fine ray takes L_U of its N x N parent ray; the
+                    // face's unshot power in this direction is rescaled to be sent whole.
+                    // L_T of a parent is the mean radiance of its fine rays on the face.
+                    RadianceMaps& maps = spec_store ? m_spec : m_other;
+                    const uint64_t mb = maps.begin(d, int(f));
+                    rasterise_face(face, rot, Nc, mc, w.coarse);
+                    VLF_CHECK(maps.count(d, int(f)) == w.coarse.covered);
+                    int ci0 = Nc, cj0 = Nc, ci1 = -1, cj1 = -1;
+                    for (const FaceFragment& ff : w.coarse.fragments) {
+                        ci0 = std::min(ci0, ff.s * mc);
+                        ci1 = std::max(ci1, ff.s * mc + mc - 1);
+                        cj0 = std::min(cj0, ff.t * mc + ff.row_begin);
+                        cj1 = std::max(cj1, ff.t * mc + ff.row_begin + ff.rows - 1);
+                    }
+                    const int cw = ci1 - ci0 + 1;
+                    w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1), -1);
+                    for (const FaceFragment& ff : w.coarse.fragments)
+                        w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int k0) {
+                            static_cast<void>(k0);
+                            w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = 0;
+                        });
+                    {  // local indices in face-local order
+                        int32_t k = 0;
+                        for (const FaceFragment& ff : w.coarse.fragments)
+                            w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int) {
+                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = k++;
+                            });
+                    }
+                    auto parent_of = [&](int i, int j) -> int32_t {
+                        const int ci = i / s - ci0, cj = j / s - cj0;
+                        if (ci < 0 || cj < 0 || ci >= cw || cj > cj1 - cj0) return -1;
+                        return w.coarse_index[size_t(cj) * cw + ci];
+                    };
+                    const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
+                    Rgb scale(0.0);
+                    if (spec_store) {
+                        Rgb unshot(0.0), reach(0.0);
+                        for (uint64_t k = 0; k < w.coarse.covered; ++k)
+                            unshot += Rgb(maps.unshot[mb + k]) * beam_c;
+                        for (uint32_t q = fb; q < fe; ++q) {
+                            const auto [ti, fi] = w.frags[q];
+                            const Tile& tile = psf.tiles[ti];
+                            const Fragment& fr = tile.fragments[fi];
+                            tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
+                                const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
+                                if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
+                            });
+                        }
+                        for (int c = 0; c < 3; ++c) {
+                            if (reach[c] > 0.0) scale[c] = unshot[c] / reach[c];
+                            else res.absorbed[c] += unshot[c];  // no fine ray carries it
+                        }
+                    }
+                    w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
+                    w.parent_count.assign(w.coarse.covered, 0);
+                    for (uint32_t q = fb; q < fe; ++q) {
+                        const auto [ti, fi] = w.frags[q];
+                        const Tile& tile = psf.tiles[ti];
+                        const Fragment& fr = tile.fragments[fi];
+                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                            const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
+                            Rgb& o = w.out[base + k];
+                            if (pk < 0) return;
+                            if (spec_store) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
+                            w.parent_sum[pk] += o / beam;
+                            ++w.parent_count[pk];
+                        });
+                    }
+                    for (uint64_t k = 0; k < w.coarse.covered; ++k)
+                        if (w.parent_count[k] > 0)
+                            maps.total[mb + k] += RgbF(w.parent_sum[k] / double(w.parent_count[k]));
                 }
             }
 
@@ -425,6 +520,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     SpecularSource src;
                     src.face = int(f);
                     src.rotation = rot;
+                    src.resolution = N;
                     src.power = received * mat.specular;
                     const int facing = (rot * face.normal).z > 0 ? 1 : -1;
                     const Vec3 incoming = omega * double(-facing);  // light travels towards the face
@@ -473,7 +569,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
         for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
     const auto t0 = Clock::now();
     if (!sources.empty())
-        gather_specular(scene, m_dirs, m_rot, N, m, sources, m_spec);
+        gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
     m_timings.specular += since(t0);
     (void)e;
 }
@@ -494,7 +590,9 @@ void Transport::run_cycle(bool last) {
         const Mat3 r = perturbation_rotation(m_dirs, m_params.seed, e.cycle, p, P);
         std::vector<Mat3> rots(m_rot.size());
         for (size_t d = 0; d < rots.size(); ++d) rots[d] = rotation_to_z(r * m_dirs.direction(int(d)));
-        const auto cov = measure_coverage(m_scene, rots, m_params.field.resolution, m_params.field.tile);
+        const int ss = m_params.supersample;
+        const auto cov = measure_coverage(m_scene, rots, m_params.field.resolution * ss,
+                                          m_params.field.tile * ss);
         const auto norm = send_normalisers(m_scene, m_dirs, rots, cov);
         run_pass(rots, norm, cov, share, false, e);
     }
