@@ -4,7 +4,8 @@
 BUILD       ?= build
 ASAN_BUILD  ?= build-asan
 JOBS        ?= $(shell nproc)
-SCENE       ?= scenes/cornell.json
+SCENE       ?= scenes/cornell-mirrors.json
+DEMO_ARGS   ?= --directions 513 --resolution 64 --tile 8 --cycles 4
 OUT         ?= out
 
 .PHONY: demo test deps build build-asan test-asan bench clean format
@@ -20,8 +21,10 @@ build: deps $(BUILD)/CMakeCache.txt
 
 demo: build
 	@mkdir -p $(OUT)
-	$(BUILD)/propagate/propagate $(SCENE) --dry-run --report $(OUT)/cornell-dry-run.json
-	@echo "demo: dry-run report written to $(OUT)/cornell-dry-run.json"
+	$(BUILD)/propagate/propagate scenes/cornell.json --dry-run --report $(OUT)/cornell-dry-run.json
+	$(BUILD)/propagate/propagate $(SCENE) $(DEMO_ARGS) -o $(OUT)/demo.vlf --report $(OUT)/demo-report.json
+	@echo "demo: light-field statistics in $(OUT)/cornell-dry-run.json"
+	@echo "demo: bake in $(OUT)/demo.vlf (lightmaps.exr opens in any EXR viewer), report in $(OUT)/demo-report.json"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

@@ -35,7 +35,7 @@ bool trace_from(const RayCaster& caster, int from, const Vec3& origin, const Vec
 // nothing. At Q the same step repeats with t <- -w while Q is specular.
 Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
                            const std::vector<Rgb>& radiance, const std::vector<size_t>& offset,
-                           int face, const Vec3& point, const Vec3& travel) {
+                           int face, const Vec3& point, const Vec3& travel, int max_bounces) {
     Rgb value(0.0), throughput(1.0);
     int cur = face;
     Vec3 p = point, t = travel;
@@ -46,7 +46,7 @@ Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
         // holds its emission.
         if (mat.is_diffuse() || mat.is_emitter())
             value += throughput * sample_lightmap(f, radiance.data() + offset[cur], p);
-        if (!mat.is_specular() || bounce == kResampleMaxBounces) break;
+        if (!mat.is_specular() || bounce >= max_bounces) break;
         const double tn = glm::dot(t, f.normal);
         if (tn <= 0.0) break;  // leaving the back: a mirror reflects on its front only
         const Vec3 w = 2.0 * tn * f.normal - t;

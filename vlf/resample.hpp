@@ -27,11 +27,12 @@ inline constexpr double kResampleEpsilon = 1e-6;
 // rho_s times the radiance arriving along the mirror path, traced recursively through
 // specular faces until a non-specular face (its bilinear P^T radiance, emission included),
 // an escape or a back face (both 0). `texel_radiance` is texel_radiance(scene, maps) and
-// `texel_offset` is TextureMaps::offset. Thread-safe.
+// `texel_offset` is TextureMaps::offset. At most `max_bounces` mirror steps are traced.
+// Thread-safe.
 Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
                            const std::vector<Rgb>& texel_radiance,
                            const std::vector<size_t>& texel_offset, int face, const Vec3& point,
-                           const Vec3& travel);
+                           const Vec3& travel, int max_bounces = kResampleMaxBounces);
 
 // Replaces transport.specular_maps().total — L_T of every specular face, every direction,
 // every covered ray — by specular_path_radiance at the ray's point on the face, along the

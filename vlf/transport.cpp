@@ -33,13 +33,9 @@ double since(Clock::time_point t0) {
 double luminance(const Rgb& c) { return (c.x + c.y + c.z) / 3.0; }
 
 struct Scratch {
-    std::vector<uint32_t> tile_base;
     std::vector<Rgb> out, in;
-    std::vector<uint32_t> ov_begin;
-    std::vector<TexelOverlap> ov;
-    std::vector<uint32_t> face_begin;                  // faces + 1
-    std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
     std::vector<double> colsum;
+    std::unique_ptr<DirectionGeometry> local;  // a direction's geometry when not cached
     TileExchange x;
     ExchangeScratch xs;
     FaceRaster coarse;                 // super-sampling: the face on the N x N grid
@@ -56,6 +52,136 @@ struct ChunkResult {
 };
 
 }  // namespace
+
+// Everything of a direction that depends only on geometry: the PSF, the slots of its
+// rays, fragments grouped by face, the beam/texel overlaps (continuous clipping) and the
+// exchange partners. Built once per direction and, within the memory budget, kept for
+// all cycles (the paper spent 80-85 % of its time re-clipping these every cycle).
+struct DirectionGeometry {
+    Psf psf;
+    std::vector<uint32_t> tile_base;   // slots: tile_base[ti] + fragment.ray_offset + k
+    std::vector<uint32_t> face_begin;  // faces + 1, into frags
+    std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
+    std::vector<uint32_t> ov_begin;    // slots + 1, into ov
+    std::vector<TexelOverlap> ov;
+    std::vector<int32_t> partner;      // per slot: partner slot, kEscaped or kBlocked
+    int64_t bytes() const {
+        int64_t b = static_cast<int64_t>(sizeof(DirectionGeometry));
+        for (const Tile& t : psf.tiles)
+            b += static_cast<int64_t>(sizeof(Tile) + t.fragments.capacity() * sizeof(Fragment) +
+                                      t.spans.capacity() * sizeof(Span));
+        b += static_cast<int64_t>((tile_base.capacity() + face_begin.capacity() +
+                                   ov_begin.capacity()) * sizeof(uint32_t) +
+                                  frags.capacity() * sizeof(frags[0]) +
+                                  ov.capacity() * sizeof(TexelOverlap) +
+                                  partner.capacity() * sizeof(int32_t) +
+                                  psf.tile_of.capacity() * sizeof(int32_t));
+        return b;
+    }
+};
+
+namespace {
+
+struct GeometryInputs {
+    const Scene& scene;
+    const TextureMaps& tex;
+    const std::vector<float>& inside;
+    const std::vector<uint32_t>& redirect;
+};
+
+void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
+                    DirectionGeometry& g,
+                    TileExchange& x, ExchangeScratch& xs, double& t_raster, double& t_clip,
+                    double& t_exchange) {
+    const Scene& scene = in.scene;
+    const size_t nf = scene.faces.size();
+    auto t0 = Clock::now();
+    g.psf = rasterise_psf(scene, rot, d, N, m);
+    const Psf& psf = g.psf;
+    g.tile_base.resize(psf.tiles.size() + 1);
+    g.tile_base[0] = 0;
+    for (size_t ti = 0; ti < psf.tiles.size(); ++ti)
+        g.tile_base[ti + 1] = g.tile_base[ti] + psf.tiles[ti].covered;
+    const uint32_t S = g.tile_base.back();
+    g.face_begin.assign(nf + 1, 0);
+    for (const Tile& t : psf.tiles)
+        for (const Fragment& f : t.fragments) ++g.face_begin[f.face + 1];
+    for (size_t f = 0; f < nf; ++f) g.face_begin[f + 1] += g.face_begin[f];
+    g.frags.resize(g.face_begin[nf]);
+    {
+        std::vector<uint32_t> cur(g.face_begin.begin(), g.face_begin.end() - 1);
+        for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti)
+            for (uint32_t fi = 0; fi < psf.tiles[ti].fragments.size(); ++fi)
+                g.frags[cur[psf.tiles[ti].fragments[fi].face]++] = {ti, fi};
+    }
+    t_raster += since(t0);
+
+    // Clip the beams of faces that can hold diffuse power against their texel grids.
+    t0 = Clock::now();
+    g.ov_begin.assign(S + 1, 0);
+    g.ov.clear();
+    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
+        const Tile& tile = psf.tiles[ti];
+        for (const Fragment& fr : tile.fragments) {
+            const Face& face = scene.faces[fr.face];
+            const Material& mat = scene.material_of(face);
+            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+            if (!mat.is_diffuse() && !mat.is_emitter()) {
+                for (uint32_t k = 0; k < fr.covered; ++k)
+                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
+                continue;
+            }
+            const PsfToTexel map = psf_to_texel(face, rot);
+            const size_t tb = in.tex.begin(face.id);
+            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                const size_t first = g.ov.size();
+                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, face.texels.width,
+                                     face.texels.height, g.ov);
+                // The part of an overlap that falls outside the polygon (rim texels) goes to
+                // the nearest texel mostly inside it: beams that spill over the rim put their
+                // power next to the rim, where the beams whose centres missed the face left
+                // a gap (docs/propagation.md §3).
+                const size_t last = g.ov.size();
+                for (size_t q = first; q < last; ++q) {
+                    const uint32_t t = g.ov[q].texel;
+                    const uint32_t r = in.redirect[tb + t];
+                    if (r == t) continue;
+                    const float keep = in.inside[tb + t];
+                    if (keep <= 0.0f) {
+                        g.ov[q].texel = r;
+                        continue;
+                    }
+                    g.ov.push_back({r, g.ov[q].area * (1.0f - keep)});
+                    g.ov[q].area *= keep;
+                }
+                g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
+            });
+        }
+    }
+    t_clip += since(t0);
+
+    // Exchange partners of every ray (§4.1 exchange buffers), as slots.
+    t0 = Clock::now();
+    g.partner.assign(S, kEscaped);
+    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
+        const Tile& tile = psf.tiles[ti];
+        build_exchange(scene, psf, tile, x, xs);
+        const uint32_t tb = g.tile_base[ti];
+        for (const Fragment& fr : tile.fragments)
+            for (uint32_t k = 0; k < fr.covered; ++k) {
+                const int32_t p = x.partner[fr.ray_offset + k];
+                g.partner[tb + fr.ray_offset + k] =
+                    p >= 0 ? static_cast<int32_t>(tb + tile.fragments[p].ray_offset +
+                                                  x.partner_ray[fr.ray_offset + k])
+                           : p;
+            }
+    }
+    t_exchange += since(t0);
+}
+
+}  // namespace
+
+using Geometry = DirectionGeometry;
 
 std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
                                        int N, int m) {
@@ -158,7 +284,22 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
                 m_redirect[b + k] = pick;
             }
     });
+    // Keep every direction's geometry for all cycles when it fits the budget.
+    int64_t rays = 0;
+    for (uint32_t c : m_coverage) rays += c;
+    const int64_t estimate = rays * s * s * 48;
+    m_use_cache = estimate <= kGeometryCacheBytes;
+    m_cache.resize(static_cast<size_t>(l));
     m_timings.setup = since(t0);
+}
+
+Transport::~Transport() = default;
+
+int64_t Transport::geometry_cache_bytes() const {
+    int64_t b = 0;
+    for (const auto& g : m_cache)
+        if (g) b += g->bytes();
+    return b;
 }
 
 double Transport::to_user_power() const {
@@ -169,7 +310,7 @@ double Transport::to_user_power() const {
 int64_t Transport::memory_bytes() const {
     return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
            m_other.bytes() + static_cast<int64_t>(m_coverage.size() * sizeof(uint32_t)) +
-           static_cast<int64_t>(kChunks * m_tex.texels() * sizeof(Rgb));
+           static_cast<int64_t>(kChunks * m_tex.texels() * sizeof(Rgb)) + geometry_cache_bytes();
 }
 
 void Transport::load_emission(LedgerEntry& e) {
@@ -227,6 +368,9 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
         const Rgb u = TextureMaps::sum(m_tex.current, m_tex.begin(int(f)), m_tex.count(int(f)));
         sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
     }
+    const GeometryInputs inputs{scene, m_tex, m_inside, m_redirect};
+    std::vector<std::unique_ptr<Geometry>>* cache =
+        true_directions && m_use_cache ? &m_cache : nullptr;
     std::vector<ChunkResult> chunks(kChunks);
     parallel_for(0, kChunks, [&](long c) {
         ChunkResult& res = chunks[c];
@@ -234,81 +378,31 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
         Scratch w;
         const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
         for (int d = d0; d < d1; ++d) {
-            auto t0 = Clock::now();
             const Mat3& rot = rotations[d];
-            const Psf psf = rasterise_psf(scene, rot, d, N, m);
+            const Geometry* gp = nullptr;
+            if (cache != nullptr && (*cache)[d]) {
+                gp = (*cache)[d].get();
+            } else {
+                std::unique_ptr<Geometry>& slot = cache != nullptr ? (*cache)[d] : w.local;
+                if (!slot) slot = std::make_unique<Geometry>();
+                Geometry& target = *slot;
+                build_geometry(inputs, rot, d, N, m, target, w.x, w.xs, res.rasterise,
+                               res.clipping, res.exchange);
+                gp = &target;
+            }
+            const Geometry& g = *gp;
+            const Psf& psf = g.psf;
             const Vec3 omega = psf.omega;
             const double beam = ray_area * m_dirs.solid_angle(d);  // a * Delta_d
-            // Slots: tile_base[ti] + fragment.ray_offset + k.
-            w.tile_base.resize(psf.tiles.size() + 1);
-            w.tile_base[0] = 0;
-            for (size_t ti = 0; ti < psf.tiles.size(); ++ti)
-                w.tile_base[ti + 1] = w.tile_base[ti] + psf.tiles[ti].covered;
-            const uint32_t S = w.tile_base.back();
+            const uint32_t S = g.tile_base.back();
             w.out.assign(S, Rgb(0.0));
             w.in.assign(S, Rgb(0.0));
-            // Fragments grouped by face, in tile order.
-            w.face_begin.assign(nf + 1, 0);
-            for (const Tile& t : psf.tiles)
-                for (const Fragment& f : t.fragments) ++w.face_begin[f.face + 1];
-            for (size_t f = 0; f < nf; ++f) w.face_begin[f + 1] += w.face_begin[f];
-            w.frags.resize(w.face_begin[nf]);
-            {
-                std::vector<uint32_t> cur(w.face_begin.begin(), w.face_begin.end() - 1);
-                for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti)
-                    for (uint32_t fi = 0; fi < psf.tiles[ti].fragments.size(); ++fi)
-                        w.frags[cur[psf.tiles[ti].fragments[fi].face]++] = {ti, fi};
-            }
-            res.rasterise += since(t0);
-
-            // 1. Clip the beams of faces with a diffuse role against their texel grids.
-            t0 = Clock::now();
-            w.ov_begin.assign(S + 1, 0);
-            w.ov.clear();
-            for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-                const Tile& tile = psf.tiles[ti];
-                for (const Fragment& fr : tile.fragments) {
-                    const Face& face = scene.faces[fr.face];
-                    const bool diffuse_role = sends[fr.face] || scene.material_of(face).is_diffuse();
-                    const uint32_t base = w.tile_base[ti] + fr.ray_offset;
-                    if (!diffuse_role) {
-                        for (uint32_t k = 0; k < fr.covered; ++k)
-                            w.ov_begin[base + k + 1] = static_cast<uint32_t>(w.ov.size());
-                        continue;
-                    }
-                    const PsfToTexel map = psf_to_texel(face, rot);
-                    const size_t tb = m_tex.begin(face.id);
-                    tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                        const size_t first = w.ov.size();
-                        pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N,
-                                             face.texels.width, face.texels.height, w.ov);
-                        // The part of an overlap that falls outside the polygon (rim
-                        // texels) goes to the nearest texel mostly inside it: beams that
-                        // spill over the rim put their power next to the rim, where the
-                        // beams whose centres missed the face left a gap.
-                        const size_t last = w.ov.size();
-                        for (size_t q = first; q < last; ++q) {
-                            const uint32_t t = w.ov[q].texel;
-                            const uint32_t r = m_redirect[tb + t];
-                            if (r == t) continue;
-                            const float keep = m_inside[tb + t];
-                            if (keep <= 0.0f) {
-                                w.ov[q].texel = r;
-                                continue;
-                            }
-                            w.ov.push_back({r, w.ov[q].area * (1.0f - keep)});
-                            w.ov[q].area *= keep;
-                        }
-                        w.ov_begin[base + k + 1] = static_cast<uint32_t>(w.ov.size());
-                    });
-                }
-            }
-            res.clipping += since(t0);
+            auto t0 = Clock::now();
 
             // 2. Senders load their rays.
             t0 = Clock::now();
             for (size_t f = 0; f < nf; ++f) {
-                const uint32_t fb = w.face_begin[f], fe = w.face_begin[f + 1];
+                const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
                 const Face& face = scene.faces[f];
                 const bool spec_store = true_directions && m_spec.stores(int(f));
                 const bool other_store = true_directions && m_other.stores(int(f));
@@ -330,12 +424,12 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     w.colsum.assign(tc, 0.0);
                     uint32_t rays = 0;
                     for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = w.frags[q];
+                        const auto [ti, fi] = g.frags[q];
                         const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                         for (uint32_t k = 0; k < fr.covered; ++k)
-                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o)
-                                w.colsum[w.ov[o].texel] += w.ov[o].area;
+                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                w.colsum[g.ov[o].texel] += g.ov[o].area;
                         rays += fr.covered;
                     }
                     // Texels whose beams miss every covered ray here (slivers at the rim)
@@ -345,13 +439,13 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         if (w.colsum[t] <= 0.0) orphan += m_tex.current[tb + t];
                     const Rgb even = orphan * (wd / rays);
                     for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = w.frags[q];
+                        const auto [ti, fi] = g.frags[q];
                         const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                         for (uint32_t k = 0; k < fr.covered; ++k) {
                             Rgb p = even;
-                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o) {
-                                const TexelOverlap& ov = w.ov[o];
+                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o) {
+                                const TexelOverlap& ov = g.ov[o];
                                 p += m_tex.current[tb + ov.texel] * (wd * ov.area / w.colsum[ov.texel]);
                             }
                             w.out[base + k] += p;
@@ -364,9 +458,9 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
                     uint64_t kl = 0;
                     for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = w.frags[q];
+                        const auto [ti, fi] = g.frags[q];
                         const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                         for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
                             Rgb& o = w.out[base + k];
                             if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
@@ -414,7 +508,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         for (uint64_t k = 0; k < w.coarse.covered; ++k)
                             unshot += Rgb(maps.unshot[mb + k]) * beam_c;
                         for (uint32_t q = fb; q < fe; ++q) {
-                            const auto [ti, fi] = w.frags[q];
+                            const auto [ti, fi] = g.frags[q];
                             const Tile& tile = psf.tiles[ti];
                             const Fragment& fr = tile.fragments[fi];
                             tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
@@ -430,10 +524,10 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
                     w.parent_count.assign(w.coarse.covered, 0);
                     for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = w.frags[q];
+                        const auto [ti, fi] = g.frags[q];
                         const Tile& tile = psf.tiles[ti];
                         const Fragment& fr = tile.fragments[fi];
-                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                             const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
                             Rgb& o = w.out[base + k];
@@ -449,24 +543,15 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                 }
             }
 
-            // 3. Exchange along every ray of every tile.
-            for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-                const Tile& tile = psf.tiles[ti];
-                build_exchange(scene, psf, tile, w.x, w.xs);
-                const uint32_t tb = w.tile_base[ti];
-                for (const Fragment& fr : tile.fragments) {
-                    for (uint32_t k = 0; k < fr.covered; ++k) {
-                        const uint32_t slot = tb + fr.ray_offset + k;
-                        const int32_t p = w.x.partner[fr.ray_offset + k];
-                        if (p >= 0) {
-                            w.in[slot] = w.out[tb + tile.fragments[p].ray_offset +
-                                               w.x.partner_ray[fr.ray_offset + k]];
-                        } else if (p == kEscaped) {
-                            res.escaped += w.out[slot];
-                        } else {
-                            res.absorbed += w.out[slot];  // onto a back face
-                        }
-                    }
+            // 3. Exchange along every ray (§4.1 lines 5-8).
+            for (uint32_t slot = 0; slot < S; ++slot) {
+                const int32_t p = g.partner[slot];
+                if (p >= 0) {
+                    w.in[slot] = w.out[p];
+                } else if (p == kEscaped) {
+                    res.escaped += w.out[slot];
+                } else {
+                    res.absorbed += w.out[slot];  // onto a back face
                 }
             }
             res.exchange += since(t0);
@@ -474,17 +559,17 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
             // 4. Receivers.
             t0 = Clock::now();
             for (size_t f = 0; f < nf; ++f) {
-                const uint32_t fb = w.face_begin[f], fe = w.face_begin[f + 1];
+                const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
                 if (fb == fe) continue;
                 const Face& face = scene.faces[f];
                 const Material& mat = scene.material_of(face);
                 Rgb received(0.0);
                 int imin = N, imax = -1, jmin = N, jmax = -1;
                 for (uint32_t q = fb; q < fe; ++q) {
-                    const auto [ti, fi] = w.frags[q];
+                    const auto [ti, fi] = g.frags[q];
                     const Tile& tile = psf.tiles[ti];
                     const Fragment& fr = tile.fragments[fi];
-                    const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                    const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                     for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
                     imin = std::min(imin, tile.s * m);
                     imax = std::max(imax, tile.s * m + m - 1);
@@ -498,21 +583,21 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     // over the texels its footprint overlaps, by overlap area.
                     const size_t tb = m_tex.begin(int(f));
                     for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = w.frags[q];
+                        const auto [ti, fi] = g.frags[q];
                         const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                         for (uint32_t k = 0; k < fr.covered; ++k) {
                             const Rgb p = w.in[base + k] * mat.diffuse;
                             if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
                             double rowsum = 0.0;
-                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o)
-                                rowsum += w.ov[o].area;
+                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                rowsum += g.ov[o].area;
                             if (rowsum <= 0.0) {
                                 res.absorbed += p;  // degenerate footprint
                                 continue;
                             }
-                            for (uint32_t o = w.ov_begin[base + k]; o < w.ov_begin[base + k + 1]; ++o)
-                                res.next[tb + w.ov[o].texel] += p * (w.ov[o].area / rowsum);
+                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
                         }
                     }
                 }
@@ -537,10 +622,10 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
                     src.covered.assign(size_t(src.width) * src.height, 0);
                     for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = w.frags[q];
+                        const auto [ti, fi] = g.frags[q];
                         const Tile& tile = psf.tiles[ti];
                         const Fragment& fr = tile.fragments[fi];
-                        const uint32_t base = w.tile_base[ti] + fr.ray_offset;
+                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
                         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                             const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
                                               (tile.s * m + u - src.i0);

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "vlf/direction_set.hpp"
@@ -41,6 +42,11 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
                                      const std::vector<Mat3>& rotations,
                                      const std::vector<uint32_t>& coverage);
 
+struct DirectionGeometry;  // per-direction PSF, overlaps and exchange partners (transport.cpp)
+
+// Directions' geometry is cached across cycles while its estimate stays below this.
+inline constexpr int64_t kGeometryCacheBytes = int64_t(3) << 30;
+
 struct TransportTimings {
     double setup = 0, rasterise = 0, clipping = 0, exchange = 0, specular = 0, filter = 0;
     double resample = 0;
@@ -49,6 +55,9 @@ struct TransportTimings {
 class Transport {
 public:
     Transport(const Scene& scene, const PropagateParams& params);
+    ~Transport();
+    Transport(const Transport&) = delete;
+    Transport& operator=(const Transport&) = delete;
 
     // Runs cycle `cycles_done() + 1`; `last` disables deferral (all faces shoot).
     void run_cycle(bool last);
@@ -66,6 +75,8 @@ public:
     const std::vector<uint32_t>& coverage() const { return m_coverage; }
     const TransportTimings& timings() const { return m_timings; }
     int64_t memory_bytes() const;
+    int64_t geometry_cache_bytes() const;
+    bool caches_geometry() const { return m_use_cache; }
     // Faces deferred in the last cycle run (VLF §4.5).
     const std::vector<uint8_t>& deferred() const { return m_deferred; }
     // Ledger values are kept in normalised units internally; this converts a power to
@@ -95,6 +106,8 @@ private:
     LedgerEntry m_running;               // cumulative absorbed/escaped/emitted
     double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
     TransportTimings m_timings;
+    bool m_use_cache = false;
+    std::vector<std::unique_ptr<DirectionGeometry>> m_cache;
 };
 
 }  // namespace vlf
