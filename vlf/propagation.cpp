@@ -6,6 +6,8 @@
 #include <chrono>
 
 #include "vlf/progress.hpp"
+#include "vlf/raycaster.hpp"
+#include "vlf/resample.hpp"
 #include "vlf/report.hpp"
 
 namespace vlf {
@@ -21,6 +23,16 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
         if (opts.on_cycle) opts.on_cycle(run.transport->ledger().back());
     }
     bar.finish();
+    run.transport->fold_unshot_into_total();
+    // VLF §5: after the last cycle, resample the specular total maps along real
+    // reflection paths (backward ray tracing), once.
+    if (params.resample && scene.specular_face_count() > 0) {
+        const auto r0 = std::chrono::steady_clock::now();
+        const RayCaster caster(scene);
+        resample_specular(*run.transport, caster);
+        run.seconds_resample =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+    }
     run.seconds_total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return run;
@@ -70,7 +82,7 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
     nlohmann::json timings = {{"setup", tm.setup},       {"rasterise", tm.rasterise},
                               {"clipping", tm.clipping}, {"exchange", tm.exchange},
                               {"specular", tm.specular}, {"filter", tm.filter},
-                              {"resample", tm.resample}, {"write", write_seconds},
+                              {"resample", run.seconds_resample}, {"write", write_seconds},
                               {"total", run.seconds_total + write_seconds}};
     const auto& tex = t.texture_maps();
     nlohmann::json memory = {

@@ -23,6 +23,7 @@ struct RunOptions {
 struct Propagation {
     std::unique_ptr<Transport> transport;
     double seconds_total = 0.0;
+    double seconds_resample = 0.0;  // backward ray-traced resampling (VLF §5)
 };
 
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts);

@@ -659,6 +659,10 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
     (void)e;
 }
 
+void Transport::fold_unshot_into_total() {
+    for (size_t k = 0; k < m_spec.total.size(); ++k) m_spec.total[k] += m_spec.unshot[k];
+}
+
 void Transport::run_cycle(bool last) {
     LedgerEntry e;
     e.cycle = cycles_done() + 1;

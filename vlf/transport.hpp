@@ -49,7 +49,6 @@ inline constexpr int64_t kGeometryCacheBytes = int64_t(3) << 30;
 
 struct TransportTimings {
     double setup = 0, rasterise = 0, clipping = 0, exchange = 0, specular = 0, filter = 0;
-    double resample = 0;
 };
 
 class Transport {
@@ -61,6 +60,9 @@ public:
 
     // Runs cycle `cycles_done() + 1`; `last` disables deferral (all faces shoot).
     void run_cycle(bool last);
+    // After the last cycle: light the mirrors received in it is still in L_U; add it to
+    // L_T so the stored outgoing radiance holds every bounce, like P^T does.
+    void fold_unshot_into_total();
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }
     const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
 

@@ -1,29 +1,160 @@
-// walkthrough — renders views of a VLF bake by lookup (VLF §6). Thin: options in, the
-// library renders.
+// walkthrough — renders views of a VLF bake by lookup (VLF §6; DESIGN §7). Thin: options
+// in, the library renders; errors print one line `walkthrough: ...` and exit 2.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include <fmt/format.h>
+
+#include "vlf/bake.hpp"
+#include "vlf/camera.hpp"
 #include "vlf/error.hpp"
+#include "vlf/parallel.hpp"
+#include "vlf/progress.hpp"
+#include "vlf/render.hpp"
+
+#ifdef VLF_HAVE_INTERACTIVE
+#include "interactive.hpp"
+#endif
 
 namespace {
 
+namespace fs = std::filesystem;
+
 struct Options {
     std::string bake, camera, eye, look_at, up, size = "512x512", mode = "texture", output, path;
+    std::string format = "png";
     double fov = 0.0, exposure = 0.0;
-    int spp = 64, threads = 0;
+    int spp = 64, threads = 0, max_depth = 16;
+    uint64_t seed = 1;
     bool interactive = false;
 };
 
+// The camera the options ask for: --camera NAME, or --eye/--look-at[/--up/--fov] on top of
+// the scene's first camera (or defaults), or the scene's first camera.
+vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
+    const bool explicit_view = !o.eye.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0;
+    if (!o.camera.empty()) {
+        if (explicit_view)
+            throw vlf::ParameterError("--camera: cannot be combined with --eye/--look-at/--up/--fov");
+        for (const vlf::Camera& c : scene.cameras)
+            if (c.name == o.camera) return c;
+        std::string names;
+        for (const vlf::Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
+        throw vlf::ParameterError("--camera: unknown camera '" + o.camera + "' (the scene has: " +
+                                  (names.empty() ? "none" : names) + ")");
+    }
+    vlf::Camera cam;
+    if (!scene.cameras.empty()) cam = scene.cameras.front();
+    else if (!explicit_view)
+        throw vlf::ParameterError("the scene has no camera: give --camera or --eye and --look-at");
+    if (explicit_view) {
+        if (scene.cameras.empty() && (o.eye.empty() || o.look_at.empty()))
+            throw vlf::ParameterError("--eye and --look-at are both needed (the scene has no camera)");
+        cam.name = "command line";
+        if (!o.eye.empty()) cam.eye = vlf::parse_vec3(o.eye, "--eye");
+        if (!o.look_at.empty()) cam.look_at = vlf::parse_vec3(o.look_at, "--look-at");
+        if (!o.up.empty()) cam.up = vlf::parse_vec3(o.up, "--up");
+        if (o.fov != 0.0) cam.fov_y_deg = o.fov;
+    }
+    vlf::validate_camera(cam, "camera");
+    return cam;
+}
+
+void check_writable_dir(const fs::path& dir, const std::string& what) {
+    std::error_code ec;
+    const fs::path d = dir.empty() ? fs::path(".") : dir;
+    if (!fs::is_directory(d, ec)) throw vlf::Error(what + ": directory " + d.string() + " does not exist");
+}
+
+int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderSettings& rs) {
+    const vlf::CameraPath path = vlf::load_camera_path(o.path);
+    for (const auto& k : path.keyframes) vlf::validate_camera(k.camera, o.path);
+    if (o.format != "png" && o.format != "exr")
+        throw vlf::ParameterError("--format: '" + o.format + "' (expected png or exr)");
+    const fs::path dir(o.output);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (!fs::is_directory(dir, ec))
+        throw vlf::Error(o.output + ": cannot create the output directory");
+    std::vector<double> seconds;
+    vlf::Progress bar("frames", path.frames, vlf::Progress::stderr_is_terminal());
+    for (int k = 0; k < path.frames; ++k) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const vlf::Image im = renderer.render(path.frame(k), rs);
+        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        vlf::write_image((dir / fmt::format("frame_{:04d}.{}", k, o.format)).string(), im, o.exposure);
+        bar.advance();
+    }
+    bar.finish();
+    std::vector<double> fps;
+    for (double s : seconds) fps.push_back(s > 0 ? 1.0 / s : 0.0);
+    std::sort(fps.begin(), fps.end());
+    const size_t n = fps.size();
+    const double median = n % 2 ? fps[n / 2] : 0.5 * (fps[n / 2 - 1] + fps[n / 2]);
+    std::printf("walkthrough: %d frames %dx%d (%s) in %s: fps min %.2f median %.2f max %.2f\n",
+                path.frames, rs.width, rs.height, vlf::to_string(rs.mode).c_str(), o.output.c_str(),
+                fps.front(), median, fps.back());
+    return 0;
+}
+
 int run(const Options& o) {
-    namespace fs = std::filesystem;
-    if (!fs::is_directory(o.bake))
-        throw vlf::Error(o.bake + ": not a bake bundle (no such directory)");
-    if (!fs::exists(fs::path(o.bake) / "manifest.json"))
-        throw vlf::Error(o.bake + ": not a bake bundle (manifest.json is missing)");
-    throw vlf::Error(o.bake + ": this build cannot read bake bundles yet (format pending)");
+    // Validate every cheap option before the (possibly long) bundle read.
+    vlf::RenderSettings rs;
+    vlf::parse_size(o.size, "--size", rs.width, rs.height);
+    rs.mode = vlf::render_mode_from_string(o.mode);
+    if (o.spp < 1) throw vlf::ParameterError("--spp: must be at least 1");
+    if (o.threads < 0) throw vlf::ParameterError("--threads: must be >= 0");
+    if (o.max_depth < 0) throw vlf::ParameterError("--max-depth: must be >= 0");
+    rs.spp = o.spp;
+    rs.max_depth = o.max_depth;
+    rs.seed = o.seed;
+    if (!std::isfinite(o.exposure)) throw vlf::ParameterError("--exposure: must be finite");
+    if (!o.interactive && o.output.empty()) throw vlf::ParameterError("-o: an output is required");
+    if (!o.path.empty()) {
+        if (fs::exists(o.output) && !fs::is_directory(o.output))
+            throw vlf::Error(o.output + ": exists and is not a directory (--path writes frames into a directory)");
+    } else if (!o.output.empty()) {
+        std::string ext = fs::path(o.output).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".exr" && ext != ".png")
+            throw vlf::ParameterError("-o: " + o.output + ": unknown image extension '" + ext +
+                                      "' (use .exr or .png)");
+        check_writable_dir(fs::path(o.output).parent_path(), "-o");
+    }
+
+    const vlf::ThreadLimit limit(o.threads);
+    const vlf::Bake bake = vlf::read_bake(o.bake);
+    const vlf::Renderer renderer(bake);
+    if (!o.path.empty()) {
+        if (!o.camera.empty() || !o.eye.empty() || !o.look_at.empty())
+            throw vlf::ParameterError("--path: cannot be combined with --camera/--eye/--look-at");
+        return run_path(o, renderer, rs);
+    }
+    const vlf::Camera cam = choose_camera(o, bake.scene);
+    if (o.interactive) {
+#ifdef VLF_HAVE_INTERACTIVE
+        return vlf_run_interactive(renderer, cam, rs.width, rs.height);
+#else
+        throw vlf::Error("--interactive: this build has no window support (GLFW not found)");
+#endif
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const vlf::Image im = renderer.render(cam, rs);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    vlf::write_image(o.output, im, o.exposure);
+    std::printf("walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width,
+                rs.height, vlf::to_string(rs.mode).c_str(),
+                rs.mode == vlf::RenderMode::Pathtrace ? fmt::format(", {} spp", rs.spp).c_str() : "",
+                s, o.output.c_str());
+    return 0;
 }
 
 }  // namespace
@@ -33,7 +164,7 @@ int main(int argc, char** argv) {
     CLI::App app{"walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"
                  "Example: walkthrough out/cornell.vlf --camera default -o out/cornell.png"};
     app.add_option("bake", o.bake, "Bake bundle written by propagate (OUT.vlf)")->required();
-    app.add_option("--camera", o.camera, "Named camera of the scene");
+    app.add_option("--camera", o.camera, "Named camera of the scene (default: the first)");
     app.add_option("--eye", o.eye, "Eye position x,y,z (scene units)");
     app.add_option("--look-at", o.look_at, "Point looked at x,y,z (scene units)");
     app.add_option("--up", o.up, "Up vector x,y,z");
@@ -41,9 +172,13 @@ int main(int argc, char** argv) {
     app.add_option("--size", o.size, "Image size WxH")->capture_default_str();
     app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")->capture_default_str();
     app.add_option("--spp", o.spp, "Samples per pixel (pathtrace)")->capture_default_str();
+    app.add_option("--max-depth", o.max_depth, "Mirror bounces (raytrace and the lookup modes' fallback)")
+        ->capture_default_str();
+    app.add_option("--seed", o.seed, "Random seed (pathtrace)")->capture_default_str();
     app.add_option("--threads", o.threads, "Worker threads (0 = all cores)")->capture_default_str();
     app.add_option("--exposure", o.exposure, "Exposure in stops for PNG output")->capture_default_str();
     app.add_option("--path", o.path, "Camera path (JSON keyframes); -o is then a directory");
+    app.add_option("--format", o.format, "Frame format with --path: png | exr")->capture_default_str();
     app.add_option("-o,--output", o.output, "Image to write (.exr linear, .png tone-mapped)");
     app.add_flag("--interactive", o.interactive, "Open the interactive window (GLFW)");
     try {
