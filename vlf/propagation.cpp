@@ -16,12 +16,13 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     const auto t0 = std::chrono::steady_clock::now();
     Propagation run;
     run.transport = std::make_unique<Transport>(scene, params);
-    Progress bar("propagating", params.cycles, opts.progress);
+    Progress bar("propagating", params.cycles * run.transport->work_per_cycle(), opts.progress);
+    run.transport->set_progress(&bar);
     for (int c = 1; c <= params.cycles; ++c) {
         run.transport->run_cycle(c == params.cycles);
-        bar.advance();
         if (opts.on_cycle) opts.on_cycle(run.transport->ledger().back());
     }
+    run.transport->set_progress(nullptr);
     bar.finish();
     run.transport->fold_unshot_into_total();
     // VLF §5: after the last cycle, resample the specular total maps along real

@@ -12,6 +12,7 @@
 #include "vlf/gaussian_filter.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/perturbation.hpp"
+#include "vlf/progress.hpp"
 #include "vlf/psf.hpp"
 #include "vlf/rotation.hpp"
 #include "vlf/specular.hpp"
@@ -378,6 +379,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
         Scratch w;
         const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
         for (int d = d0; d < d1; ++d) {
+            if (m_progress != nullptr) m_progress->advance();
             const Mat3& rot = rotations[d];
             const Geometry* gp = nullptr;
             if (cache != nullptr && (*cache)[d]) {

@@ -63,6 +63,12 @@ public:
     // After the last cycle: light the mirrors received in it is still in L_U; add it to
     // L_T so the stored outgoing radiance holds every bounce, like P^T does.
     void fold_unshot_into_total();
+    // Advanced by one for every direction of every pass processed (may be null).
+    void set_progress(class Progress* progress) { m_progress = progress; }
+    // Directions processed per cycle (all passes): the unit of progress.
+    int64_t work_per_cycle() const {
+        return int64_t(m_dirs.size()) * (m_params.perturbations + 1);
+    }
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }
     const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
 
@@ -109,6 +115,7 @@ private:
     double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
     TransportTimings m_timings;
     bool m_use_cache = false;
+    class Progress* m_progress = nullptr;
     std::vector<std::unique_ptr<DirectionGeometry>> m_cache;
 };
 
