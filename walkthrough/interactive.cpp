@@ -10,6 +10,7 @@
 #include "walkthrough/interactive.hpp"
 
 #include <GLFW/glfw3.h>  // also includes <GL/gl.h>
+#include <fmt/format.h>
 #include <stb_image_write.h>  // implementation lives in libstb: do not define the macro
 
 #include <algorithm>
@@ -22,8 +23,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "vlf/error.hpp"
 #include "vlf/image_io.hpp"  // tone_map_srgb8: the PNG tone map, reused for display
@@ -61,7 +60,7 @@ void on_glfw_error(int code, const char* description) {
 // Fly camera: yaw about the start camera's up vector, pitch towards it. User units.
 
 class FlyCamera {
-public:
+  public:
     explicit FlyCamera(const Camera& c) : m_start(c) { reset(); }
 
     void reset() {
@@ -81,9 +80,7 @@ public:
         clamp_pitch();
     }
 
-    Vec3 forward() const {
-        return std::cos(m_pitch) * horizontal() + std::sin(m_pitch) * m_up;
-    }
+    Vec3 forward() const { return std::cos(m_pitch) * horizontal() + std::sin(m_pitch) * m_up; }
     Vec3 right() const {
         return std::cos(m_yaw) * m_right0 - std::sin(m_yaw) * m_fwd0;  // horizontal x up
     }
@@ -105,7 +102,7 @@ public:
         return c;
     }
 
-private:
+  private:
     static Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
         double l = glm::length(v);
         return l > 1e-12 ? v / l : fallback;
@@ -232,7 +229,7 @@ void draw_text(std::vector<uint8_t>& rgb, int w, int h, const std::vector<std::s
 // OpenGL: the image as one texture on a full-window quad (fixed function, GL 2.1).
 
 class Display {
-public:
+  public:
     Display() {
         glGenTextures(1, &m_texture);
         glBindTexture(GL_TEXTURE_2D, m_texture);
@@ -279,7 +276,7 @@ public:
         glDisable(GL_TEXTURE_2D);
     }
 
-private:
+  private:
     GLuint m_texture = 0;
     int m_w = -1, m_h = -1;
 };
@@ -318,25 +315,48 @@ void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mod
         v.progressive = false;  // an explicit mode choice overrides progressive
     };
     switch (key) {
-    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window, GLFW_TRUE); break;
-    case GLFW_KEY_1: case GLFW_KEY_KP_1: select(RenderMode::Rays); break;
-    case GLFW_KEY_2: case GLFW_KEY_KP_2: select(RenderMode::Texture); break;
-    case GLFW_KEY_3: case GLFW_KEY_KP_3: select(RenderMode::Raytrace); break;
-    case GLFW_KEY_4: case GLFW_KEY_KP_4: select(RenderMode::Pathtrace); break;
-    case GLFW_KEY_P:
-        if (action == GLFW_PRESS) v.progressive = !v.progressive;
-        break;
-    case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD: v.exposure += kExposureStep; break;
-    case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: v.exposure -= kExposureStep; break;
-    case GLFW_KEY_R: v.reset_camera = true; break;
-    default: break;
+        case GLFW_KEY_ESCAPE:
+            glfwSetWindowShouldClose(window, GLFW_TRUE);
+            break;
+        case GLFW_KEY_1:
+        case GLFW_KEY_KP_1:
+            select(RenderMode::Rays);
+            break;
+        case GLFW_KEY_2:
+        case GLFW_KEY_KP_2:
+            select(RenderMode::Texture);
+            break;
+        case GLFW_KEY_3:
+        case GLFW_KEY_KP_3:
+            select(RenderMode::Raytrace);
+            break;
+        case GLFW_KEY_4:
+        case GLFW_KEY_KP_4:
+            select(RenderMode::Pathtrace);
+            break;
+        case GLFW_KEY_P:
+            if (action == GLFW_PRESS) v.progressive = !v.progressive;
+            break;
+        case GLFW_KEY_EQUAL:
+        case GLFW_KEY_KP_ADD:
+            v.exposure += kExposureStep;
+            break;
+        case GLFW_KEY_MINUS:
+        case GLFW_KEY_KP_SUBTRACT:
+            v.exposure -= kExposureStep;
+            break;
+        case GLFW_KEY_R:
+            v.reset_camera = true;
+            break;
+        default:
+            break;
     }
 }
 
 // Continuous input: WASD/QE/Space/Ctrl movement and mouse-drag look. Returns true when the
 // camera changed.
 class InputPoller {
-public:
+  public:
     bool apply(GLFWwindow* win, FlyCamera& cam, double dt, double speed) {
         auto down = [&](int k) { return glfwGetKey(win, k) == GLFW_PRESS; };
         Vec3 d{0.0};
@@ -368,7 +388,7 @@ public:
     }
     bool active() const { return m_active; }  // keys held or dragging: keep polling
 
-private:
+  private:
     bool m_dragging = false, m_active = false;
     double m_x = 0, m_y = 0;
 };
@@ -395,7 +415,8 @@ int automation_frames() {
     char* end = nullptr;
     long n = std::strtol(s, &end, 10);
     if (*end != '\0' || n <= 0 || n > 1000000)
-        throw vlf::Error(fmt::format("VLF_INTERACTIVE_FRAMES: expected a positive integer, got '{}'", s));
+        throw vlf::Error(
+            fmt::format("VLF_INTERACTIVE_FRAMES: expected a positive integer, got '{}'", s));
     return int(n);
 }
 
@@ -445,10 +466,11 @@ int vlf_run_interactive(const vlf::Renderer& renderer, const vlf::Camera& start,
     Stats stats;
 
     if (!auto_frames)
-        std::printf("walkthrough: WASD move, Q/E down/up, drag to look, 1-4 rays/texture/"
-                    "raytrace/pathtrace, P progressive, +/- exposure, R reset, Esc quit\n");
+        std::printf(
+            "walkthrough: WASD move, Q/E down/up, drag to look, 1-4 rays/texture/"
+            "raytrace/pathtrace, P progressive, +/- exposure, R reset, Esc quit\n");
 
-    Image linear;       // the current view, linear radiance (pathtrace: running mean)
+    Image linear;  // the current view, linear radiance (pathtrace: running mean)
     int accumulated_spp = 0;
     RenderMode shown = RenderMode::Texture;
     bool have_image = false;
@@ -501,8 +523,8 @@ int vlf_run_interactive(const vlf::Renderer& renderer, const vlf::Camera& start,
 
         const bool fresh = !have_image || moved || target != shown || fb_w != linear.width ||
                            fb_h != linear.height;
-        const bool accumulate = !fresh && target == RenderMode::Pathtrace &&
-                                accumulated_spp < kPathtraceMaxSpp;
+        const bool accumulate =
+            !fresh && target == RenderMode::Pathtrace && accumulated_spp < kPathtraceMaxSpp;
         const double t0 = glfwGetTime();
         double render_s = 0.0;
         if (fresh || accumulate) {
@@ -547,17 +569,18 @@ int vlf_run_interactive(const vlf::Renderer& renderer, const vlf::Camera& start,
         if (fresh || accumulate) stats.add_frame(shown, render_s, glfwGetTime() - t0);
 
         if (now - last_title > 0.25 || fresh) {
-            glfwSetWindowTitle(win, fmt::format("VLF walkthrough - {} - {:.1f} fps - exposure {:+.1f}",
-                                                label, stats.fps, view.exposure)
-                                        .c_str());
+            glfwSetWindowTitle(
+                win, fmt::format("VLF walkthrough - {} - {:.1f} fps - exposure {:+.1f}", label,
+                                 stats.fps, view.exposure)
+                         .c_str());
             last_title = now;
         }
     }
 
     if (auto_frames) {
         std::string per_mode;
-        for (RenderMode m : {RenderMode::Rays, RenderMode::Texture, RenderMode::Raytrace,
-                             RenderMode::Pathtrace}) {
+        for (RenderMode m :
+             {RenderMode::Rays, RenderMode::Texture, RenderMode::Raytrace, RenderMode::Pathtrace}) {
             const size_t i = size_t(m);
             if (!stats.renders[i]) continue;
             per_mode += fmt::format(" {}={} ({:.1f} ms)", vlf::to_string(m), stats.renders[i],
