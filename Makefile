@@ -7,6 +7,7 @@ JOBS        ?= $(shell nproc)
 SCENE       ?= scenes/cornell-mirrors.json
 DEMO_ARGS   ?= --directions 513 --resolution 64 --tile 8 --cycles 4
 OUT         ?= out
+ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli
 
 .PHONY: demo test deps build build-asan test-asan bench clean format
 
@@ -26,15 +27,18 @@ demo: build
 	@echo "demo: light-field statistics in $(OUT)/cornell-dry-run.json"
 	@echo "demo: bake in $(OUT)/demo.vlf (lightmaps.exr opens in any EXR viewer), report in $(OUT)/demo-report.json"
 
-test: build
+# Every test of the Release build, then the input-handling tests (scene loading, bundles,
+# the command-line contract) again under ASan+UBSan.
+test: build build-asan
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -R '$(ASAN_TESTS)'
 
 build-asan: deps
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVLF_SANITIZE=ON -DVLF_BUILD_BENCH=OFF
-	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVLF_SANITIZE=ON -DVLF_BUILD_BENCH=OFF -DVLF_BUILD_INTERACTIVE=OFF
+	cmake --build $(ASAN_BUILD) -j $(JOBS) --target vlf_tests propagate walkthrough
 
 test-asan: build-asan
-	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS)
 
 bench: build
 	$(BUILD)/bench/vlf_bench --benchmark_min_time=0.2
