@@ -188,7 +188,7 @@ TEST_F(ImageIo, PngWrittenAndNonEmpty) {
     const auto b = tone_map_srgb8(one, 0.0);
     EXPECT_EQ(b[0], 188);
     EXPECT_EQ(b[1], 0);
-    EXPECT_EQ(tone_map_srgb8(one, -1.0)[0], 155);  // 0.5 -> 1/3
+    EXPECT_EQ(tone_map_srgb8(one, -1.0)[0], 156);  // 0.5 -> 1/3 -> sRGB 156
 }
 
 TEST_F(ImageIo, UnknownExtensionAndBadPathsThrow) {
@@ -231,7 +231,7 @@ constexpr const char* kFurnace = R"({
   "materials": {"glow": {"diffuse": [0.3, 0.6, 0.8], "emission": [1.0, 0.5, 2.0]}},
   "objects": [
     {"type": "box", "min": [-1, -1, -1], "max": [1, 1, 1], "flip": true, "material": "glow"},
-    {"type": "box", "min": [-0.3, -1, -0.3], "max": [0.3, -0.2, 0.3], "rotate_y_deg": 30,
+    {"type": "box", "min": [-0.3, -0.99, -0.3], "max": [0.3, -0.2, 0.3], "rotate_y_deg": 30,
      "material": "glow"}],
   "cameras": [{"name": "in", "eye": [0.1, 0.2, -0.9], "look_at": [0, -0.4, 0.5], "up": [0, 1, 0],
                "fov_y_deg": 90}]
@@ -242,10 +242,10 @@ TEST(RenderPathtrace, FurnaceConvergesToLeOverOneMinusRho) {
     const Bake bake = scene_only_bake(scene);
     const Renderer r(bake);
     RenderSettings s;
-    s.width = 12;
-    s.height = 12;
+    s.width = 8;
+    s.height = 8;
     s.mode = RenderMode::Pathtrace;
-    s.spp = 4096;
+    s.spp = 16384;  // per-pixel noise ~0.5 % in the rho = 0.8 channel
     const Image im = r.render(scene.cameras[0], s);
     const Rgb want = Rgb(1.0, 0.5, 2.0) / (Rgb(1.0) - Rgb(0.3, 0.6, 0.8));
     Rgb mean(0.0), worst(0.0);
@@ -332,8 +332,10 @@ std::unique_ptr<Baked> bake_scene(const std::string& file) {
 
 // The reference integrates over each pixel's area (jittered samples); the lookup modes
 // shoot one ray through the pixel centre. Rendering them `k` times finer and averaging
-// k x k blocks gives the same pixel footprint, so edges (the lamp against the ceiling)
-// compare like with like.
+// k x k blocks gives the same pixel footprint, so edges compare like with like. k must be
+// large: the lamp (radiance 17) against the ceiling (0.1) makes an edge pixel's coverage
+// error of 1/(2k) worth 17/(2k) — at k = 4 that alone gave 7.6 % relative RMSE on
+// cornell.json, at k = 16 the whole image is within 1.5 %.
 Image render_box_filtered(const Renderer& r, const Camera& cam, RenderMode mode, int size, int k) {
     RenderSettings s;
     s.width = s.height = size * k;
@@ -358,49 +360,55 @@ Image reference(const std::string& name) {
 #define VLF_SKIP_UNDER_SANITIZER() static_cast<void>(0)
 #endif
 
-TEST(RenderAccuracy, CornellTextureAndRaytraceWithin5Percent) {
-    VLF_SKIP_UNDER_SANITIZER();
-    const auto b = bake_scene("scenes/cornell.json");
+// Relative RMSE of every lookup mode against the reference, printed; also over the pixels
+// away from the lamp (reference red < 3), where the lamp's exact Le does not dominate.
+struct ModeErrors {
+    double all[3] = {0, 0, 0}, without_lamp[3] = {0, 0, 0};
+};
+
+ModeErrors measure(const std::string& scene_file, const std::string& reference_file) {
+    const auto b = bake_scene(scene_file);
     const Renderer r(b->bake);
     const Camera& cam = b->scene.cameras.at(0);
-    const Image ref = reference("cornell-pathtrace-128.exr");
-    double e[3];
+    const Image ref = reference(reference_file);
     const RenderMode modes[3] = {RenderMode::Rays, RenderMode::Texture, RenderMode::Raytrace};
+    ModeErrors e;
     for (int m = 0; m < 3; ++m) {
         const auto t0 = std::chrono::steady_clock::now();
-        const Image im = render_box_filtered(r, cam, modes[m], 128, 4);
-        e[m] = relative_rmse(im, ref);
-        std::printf("cornell.json %-8s relative RMSE %.4f (%.2f s for 512x512)\n",
-                    to_string(modes[m]).c_str(), e[m],
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        if (std::getenv("VLF_RENDER_TEST_OUT"))
-            write_image(std::string(std::getenv("VLF_RENDER_TEST_OUT")) + "/cornell-" +
-                            to_string(modes[m]) + ".exr", im);
+        const Image im = render_box_filtered(r, cam, modes[m], ref.width, 16);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        e.all[m] = relative_rmse(im, ref);
+        double num = 0.0, den = 0.0;
+        for (size_t k = 0; k < im.pixels.size(); ++k)
+            if (ref.pixels[k].x < 3.0) {
+                const Rgb d = im.pixels[k] - ref.pixels[k];
+                num += glm::dot(d, d);
+                den += glm::dot(ref.pixels[k], ref.pixels[k]);
+            }
+        e.without_lamp[m] = std::sqrt(num / den);
+        std::printf("%s %-8s relative RMSE %.4f (without the lamp %.4f); %dx%d in %.2f s\n",
+                    scene_file.c_str(), to_string(modes[m]).c_str(), e.all[m],
+                    e.without_lamp[m], ref.width * 16, ref.height * 16, seconds);
+        if (const char* out = std::getenv("VLF_RENDER_TEST_OUT"))
+            write_image(std::string(out) + "/" + fs::path(scene_file).stem().string() + "-" +
+                            to_string(modes[m]) + ".exr",
+                        im);
     }
-    EXPECT_LE(e[1], 0.05) << "texture";
-    EXPECT_LE(e[2], 0.05) << "raytrace";
+    return e;
+}
+
+TEST(RenderAccuracy, CornellTextureAndRaytraceWithin5Percent) {
+    VLF_SKIP_UNDER_SANITIZER();
+    const ModeErrors e = measure("scenes/cornell.json", "cornell-pathtrace-128.exr");
+    EXPECT_LE(e.all[1], 0.05) << "texture";
+    EXPECT_LE(e.all[2], 0.05) << "raytrace";
 }
 
 TEST(RenderAccuracy, CornellMirrorsRaytraceWithin10Percent) {
     VLF_SKIP_UNDER_SANITIZER();
-    const auto b = bake_scene("scenes/cornell-mirrors.json");
-    const Renderer r(b->bake);
-    const Camera& cam = b->scene.cameras.at(0);
-    const Image ref = reference("cornell-mirrors-pathtrace-128.exr");
-    double e[3];
-    const RenderMode modes[3] = {RenderMode::Rays, RenderMode::Texture, RenderMode::Raytrace};
-    for (int m = 0; m < 3; ++m) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const Image im = render_box_filtered(r, cam, modes[m], 128, 4);
-        e[m] = relative_rmse(im, ref);
-        std::printf("cornell-mirrors.json %-8s relative RMSE %.4f (%.2f s for 512x512)\n",
-                    to_string(modes[m]).c_str(), e[m],
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        if (std::getenv("VLF_RENDER_TEST_OUT"))
-            write_image(std::string(std::getenv("VLF_RENDER_TEST_OUT")) + "/cornell-mirrors-" +
-                            to_string(modes[m]) + ".exr", im);
-    }
-    EXPECT_LE(e[2], 0.10) << "raytrace";
+    const ModeErrors e = measure("scenes/cornell-mirrors.json", "cornell-mirrors-pathtrace-128.exr");
+    EXPECT_LE(e.all[2], 0.10) << "raytrace";
 }
 
 }  // namespace

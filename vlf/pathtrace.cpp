@@ -62,7 +62,7 @@ PathTracer::PathTracer(const Scene& scene, const RayCaster& caster)
     }
 }
 
-Rgb PathTracer::direct(const Vec3& x, const Vec3& n, Pcg32& rng) const {
+Rgb PathTracer::direct(const Vec3& x, const Vec3& n, double bsdf_pdf_scale, Pcg32& rng) const {
     if (m_lights.empty()) return Rgb(0.0);
     const double u = rng.uniform() * m_light_area;
     auto it = std::upper_bound(m_lights.begin(), m_lights.end(), u,
@@ -87,38 +87,55 @@ Rgb PathTracer::direct(const Vec3& x, const Vec3& n, Pcg32& rng) const {
     const Vec3 to = y - o;
     const double dist = glm::length(to);
     if (m_caster.occluded(o, to / dist, 0.0, dist - kEps)) return Rgb(0.0);
-    return m_scene.material_of(lf).emission * (cos_x * cos_y / d2 * m_light_area);
+    // MIS, power heuristic, against the Lambertian lobe that could have found y too.
+    const double p_light = d2 / (cos_y * m_light_area);  // solid angle
+    const double p_bsdf = bsdf_pdf_scale * cos_x / kPi;
+    const double mis = p_light * p_light / (p_light * p_light + p_bsdf * p_bsdf);
+    return m_scene.material_of(lf).emission * (cos_x / p_light * mis);
 }
 
 Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) const {
     Rgb L(0.0), beta(1.0);
     Vec3 o = origin, dir = dir_in;
-    bool count_emission = true;  // camera ray, or after a mirror bounce
+    // Solid-angle pdf of the Lambertian bounce that chose `dir`, 0 for the camera ray and
+    // after a mirror (then emission counts in full: no light sample could find it).
+    double bsdf_pdf = 0.0;
     for (int vertex = 0; vertex < kMaxPathVertices; ++vertex) {
         RayHit hit;
         if (!m_caster.intersect(o, dir, 0.0, std::numeric_limits<double>::infinity(), hit))
             break;  // escaped
         const Face& f = m_scene.faces[hit.face];
         const Vec3& n = f.normal;
-        if (glm::dot(dir, n) >= 0.0) break;  // back side: absorbs, emits nothing
+        const double cos_hit = -glm::dot(dir, n);
+        if (cos_hit <= 0.0) break;  // back side: absorbs, emits nothing
         const Material& m = m_scene.material_of(f);
-        if (count_emission && m.is_emitter()) L += beta * m.emission;
+        if (m.is_emitter()) {
+            double w = 1.0;
+            if (bsdf_pdf > 0.0) {  // MIS against next-event estimation from the previous vertex
+                const double d2 = hit.t * hit.t * glm::dot(dir, dir);
+                const double p_light = d2 / (cos_hit * m_light_area);
+                w = bsdf_pdf * bsdf_pdf / (bsdf_pdf * bsdf_pdf + p_light * p_light);
+            }
+            L += beta * m.emission * w;
+        }
         const double pd = std::max(0.0, mean(m.diffuse)), ps = std::max(0.0, mean(m.specular));
         if (pd + ps <= 0.0) break;
+        const double p_diffuse = pd / (pd + ps);  // probability of the Lambertian lobe
         const Vec3& x = hit.point;
-        if (pd > 0.0) L += beta * m.diffuse * (1.0 / kPi) * direct(x, n, rng);
-        if (rng.uniform() * (pd + ps) < pd) {  // Lambertian lobe, cosine-weighted
+        if (pd > 0.0) L += beta * m.diffuse * (1.0 / kPi) * direct(x, n, p_diffuse, rng);
+        if (rng.uniform() < p_diffuse) {  // Lambertian lobe, cosine-weighted
             const double r = std::sqrt(rng.uniform()), phi = 2.0 * kPi * rng.uniform();
             Vec3 e1, e2;
             orthonormal_basis(n, e1, e2);
-            dir = glm::normalize(r * std::cos(phi) * e1 + r * std::sin(phi) * e2 +
-                                 std::sqrt(std::max(0.0, 1.0 - r * r)) * n);
-            beta *= m.diffuse * ((pd + ps) / pd);  // f cos / pdf = rho_d, over lobe choice
-            count_emission = false;
+            const double cz = std::sqrt(std::max(0.0, 1.0 - r * r));
+            dir = glm::normalize(r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + cz * n);
+            beta *= m.diffuse / p_diffuse;  // f cos / pdf = rho_d, over the lobe choice
+            bsdf_pdf = p_diffuse * glm::dot(dir, n) / kPi;
+            if (!(bsdf_pdf > 0.0)) break;
         } else {  // ideal mirror
             dir = dir - 2.0 * glm::dot(dir, n) * n;
-            beta *= m.specular * ((pd + ps) / ps);
-            count_emission = true;
+            beta *= m.specular / (1.0 - p_diffuse);
+            bsdf_pdf = 0.0;
         }
         o = x + kEps * n;
         if (vertex >= 3) {  // Russian roulette

@@ -5,9 +5,11 @@
 // Estimator (normalised scene coordinates; radiance in W m^-2 sr^-1):
 //  * a path vertex on the back side of a face ends the path with nothing (faces are
 //    one-sided: their back absorbs and emits nothing — as in the propagation);
-//  * emission Le of a hit face counts on the camera ray and after a mirror bounce;
-//    after a diffuse bounce it is replaced by next-event estimation: uniform area sampling
-//    of all emitting polygons, a shadow ray, cosines at both ends (one-sided emitters);
+//  * emission Le of a hit face counts in full on the camera ray and after a mirror bounce;
+//    at every diffuse vertex, next-event estimation (uniform area sampling of all emitting
+//    polygons, a shadow ray, cosines at both ends, one-sided emitters) is combined with
+//    the emission found by the Lambertian bounce by multiple importance sampling (power
+//    heuristic) — corners, where 1/r^2 makes light sampling noisy, stay well behaved;
 //  * one lobe per bounce, chosen with probability proportional to the mean of rho_d
 //    (Lambertian, cosine-weighted sampling) and rho_s (ideal mirror), weight divided by
 //    that probability;
@@ -63,10 +65,11 @@ private:
         int face = 0;
         double cdf = 0.0;  // cumulative area up to and including this triangle
     };
-    // Next-event estimate of the emitted radiance reflected toward the eye by a
-    // Lambertian surface point x with normal n, without the rho_d/pi factor:
-    // integral of Le cos_x cos_y / r^2 dA over all emitters, one sample.
-    Rgb direct(const Vec3& x, const Vec3& n, Pcg32& rng) const;
+    // Next-event estimate at a Lambertian surface point x with normal n, without the
+    // rho_d/pi factor: integral of Le cos_x cos_y / r^2 dA over all emitters, one sample,
+    // MIS-weighted (power heuristic) against the Lambertian lobe chosen with probability
+    // bsdf_pdf_scale.
+    Rgb direct(const Vec3& x, const Vec3& n, double bsdf_pdf_scale, Pcg32& rng) const;
 
     const Scene& m_scene;
     const RayCaster& m_caster;

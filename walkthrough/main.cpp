@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 
 struct Options {
     std::string bake, camera, eye, look_at, up, size = "512x512", mode = "texture", output, path;
-    std::string format = "png";
+    std::string format = "png", reference;
     double fov = 0.0, exposure = 0.0;
     int spp = 64, threads = 0, max_depth = 16;
     uint64_t seed = 1;
@@ -150,6 +150,9 @@ int run(const Options& o) {
     const vlf::Image im = renderer.render(cam, rs);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     vlf::write_image(o.output, im, o.exposure);
+    if (!o.reference.empty())
+        std::printf("walkthrough: relative RMSE against %s: %.5f\n", o.reference.c_str(),
+                    vlf::relative_rmse(im, vlf::read_exr(o.reference)));
     std::printf("walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width,
                 rs.height, vlf::to_string(rs.mode).c_str(),
                 rs.mode == vlf::RenderMode::Pathtrace ? fmt::format(", {} spp", rs.spp).c_str() : "",
@@ -180,6 +183,8 @@ int main(int argc, char** argv) {
     app.add_option("--path", o.path, "Camera path (JSON keyframes); -o is then a directory");
     app.add_option("--format", o.format, "Frame format with --path: png | exr")->capture_default_str();
     app.add_option("-o,--output", o.output, "Image to write (.exr linear, .png tone-mapped)");
+    app.add_option("--reference", o.reference,
+                   "Reference EXR of the same view: print the relative RMSE against it");
     app.add_flag("--interactive", o.interactive, "Open the interactive window (GLFW)");
     try {
         app.parse(argc, argv);
