@@ -24,8 +24,13 @@ demo: build
 	@mkdir -p $(OUT)
 	$(BUILD)/propagate/propagate scenes/cornell.json --dry-run --report $(OUT)/cornell-dry-run.json
 	$(BUILD)/propagate/propagate $(SCENE) $(DEMO_ARGS) -o $(OUT)/demo.vlf --report $(OUT)/demo-report.json
+	$(BUILD)/walkthrough/walkthrough $(OUT)/demo.vlf --camera default --mode texture -o $(OUT)/demo-texture.png
+	$(BUILD)/walkthrough/walkthrough $(OUT)/demo.vlf --camera default --mode texture -o $(OUT)/demo-texture.exr
+	$(BUILD)/walkthrough/walkthrough $(OUT)/demo.vlf --camera default --mode raytrace -o $(OUT)/demo-raytrace.png
+	$(BUILD)/walkthrough/walkthrough $(OUT)/demo.vlf --camera default --mode raytrace -o $(OUT)/demo-raytrace.exr
 	@echo "demo: light-field statistics in $(OUT)/cornell-dry-run.json"
 	@echo "demo: bake in $(OUT)/demo.vlf (lightmaps.exr opens in any EXR viewer), report in $(OUT)/demo-report.json"
+	@echo "demo: images $(OUT)/demo-texture.png $(OUT)/demo-raytrace.png (tone-mapped) and .exr (linear)"
 
 # Every test of the Release build, then the input-handling tests (scene loading, bundles,
 # the command-line contract) again under ASan+UBSan.

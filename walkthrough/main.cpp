@@ -131,8 +131,11 @@ int run(const Options& o) {
     }
 
     const vlf::ThreadLimit limit(o.threads);
+    const auto l0 = std::chrono::steady_clock::now();
     const vlf::Bake bake = vlf::read_bake(o.bake);
     const vlf::Renderer renderer(bake);
+    std::printf("walkthrough: loaded %s in %.3f s\n", o.bake.c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - l0).count());
     if (!o.path.empty()) {
         if (!o.camera.empty() || !o.eye.empty() || !o.look_at.empty())
             throw vlf::ParameterError("--path: cannot be combined with --camera/--eye/--look-at");
