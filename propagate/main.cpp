@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "vlf/cli_main.hpp"
 #include "vlf/error.hpp"
 #include "vlf/bake.hpp"
 #include "vlf/light_field.hpp"
@@ -128,22 +129,5 @@ int main(int argc, char** argv) {
     app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")->capture_default_str();
     app.add_flag("-q,--quiet", o.quiet, "No progress bar");
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::fputs(app.help().c_str(), stdout);
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "propagate: %s\n", e.what());
-        return 2;
-    }
-    try {
-        return run(o);
-    } catch (const vlf::Error& e) {
-        std::fprintf(stderr, "propagate: %s\n", e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "propagate: internal error: %s\n", e.what());
-        return 1;
-    }
+    return vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o); });
 }

@@ -15,6 +15,7 @@
 
 #include "vlf/bake.hpp"
 #include "vlf/camera.hpp"
+#include "vlf/cli_main.hpp"
 #include "vlf/error.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/progress.hpp"
@@ -189,22 +190,5 @@ int main(int argc, char** argv) {
     app.add_option("--reference", o.reference,
                    "Reference EXR of the same view: print the relative RMSE against it");
     app.add_flag("--interactive", o.interactive, "Open the interactive window (GLFW)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::fputs(app.help().c_str(), stdout);
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "walkthrough: %s\n", e.what());
-        return 2;
-    }
-    try {
-        return run(o);
-    } catch (const vlf::Error& e) {
-        std::fprintf(stderr, "walkthrough: %s\n", e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "walkthrough: internal error: %s\n", e.what());
-        return 1;
-    }
+    return vlf::cli_main(app, argc, argv, "walkthrough", [&] { return run(o); });
 }
