@@ -184,6 +184,18 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
 
 using Geometry = DirectionGeometry;
 
+// Calls fn(tile, fragment, first slot) for the fragments [fb, fe) of a face, in tile order.
+template <class F>
+void for_fragments(const DirectionGeometry& g, uint32_t fb, uint32_t fe, F&& fn) {
+    for (uint32_t q = fb; q < fe; ++q) {
+        const auto [ti, fi] = g.frags[q];
+        const Tile& tile = g.psf.tiles[ti];
+        const Fragment& fr = tile.fragments[fi];
+        fn(tile, fr, g.tile_base[ti] + fr.ray_offset);
+    }
+}
+
+
 std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
                                        int N, int m) {
     const size_t nf = scene.faces.size();
@@ -425,25 +437,19 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     const size_t tb = m_tex.begin(int(f)), tc = m_tex.count(int(f));
                     w.colsum.assign(tc, 0.0);
                     uint32_t rays = 0;
-                    for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = g.frags[q];
-                        const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                         for (uint32_t k = 0; k < fr.covered; ++k)
                             for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
                                 w.colsum[g.ov[o].texel] += g.ov[o].area;
                         rays += fr.covered;
-                    }
+                    });
                     // Texels whose beams miss every covered ray here (slivers at the rim)
                     // still send their share: spread evenly over the face's rays.
                     Rgb orphan(0.0);
                     for (size_t t = 0; t < tc; ++t)
                         if (w.colsum[t] <= 0.0) orphan += m_tex.current[tb + t];
                     const Rgb even = orphan * (wd / rays);
-                    for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = g.frags[q];
-                        const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                         for (uint32_t k = 0; k < fr.covered; ++k) {
                             Rgb p = even;
                             for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o) {
@@ -452,23 +458,20 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                             }
                             w.out[base + k] += p;
                         }
-                    }
+                    });
                 }
                 if ((spec_store || other_store) && s == 1) {
                     RadianceMaps& maps = spec_store ? m_spec : m_other;
                     const uint64_t mb = maps.begin(d, int(f));
                     VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
                     uint64_t kl = 0;
-                    for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = g.frags[q];
-                        const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                         for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
                             Rgb& o = w.out[base + k];
                             if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
                             maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
                         }
-                    }
+                    });
                 } else if (spec_store || other_store) {
                     // Super-sampled: each fine ray takes L_U of its N x N parent ray; the
                     // face's unshot power in this direction is rescaled to be sent whole.
@@ -509,15 +512,12 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         Rgb unshot(0.0), reach(0.0);
                         for (uint64_t k = 0; k < w.coarse.covered; ++k)
                             unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-                        for (uint32_t q = fb; q < fe; ++q) {
-                            const auto [ti, fi] = g.frags[q];
-                            const Tile& tile = psf.tiles[ti];
-                            const Fragment& fr = tile.fragments[fi];
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                             tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
                                 const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
                                 if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
                             });
-                        }
+                        });
                         for (int c = 0; c < 3; ++c) {
                             if (reach[c] > 0.0) scale[c] = unshot[c] / reach[c];
                             else res.absorbed[c] += unshot[c];  // no fine ray carries it
@@ -525,11 +525,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     }
                     w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
                     w.parent_count.assign(w.coarse.covered, 0);
-                    for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = g.frags[q];
-                        const Tile& tile = psf.tiles[ti];
-                        const Fragment& fr = tile.fragments[fi];
-                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                             const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
                             Rgb& o = w.out[base + k];
@@ -538,7 +534,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                             w.parent_sum[pk] += o / beam;
                             ++w.parent_count[pk];
                         });
-                    }
+                    });
                     for (uint64_t k = 0; k < w.coarse.covered; ++k)
                         if (w.parent_count[k] > 0)
                             maps.total[mb + k] += RgbF(w.parent_sum[k] / double(w.parent_count[k]));
@@ -567,17 +563,13 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                 const Material& mat = scene.material_of(face);
                 Rgb received(0.0);
                 int imin = N, imax = -1, jmin = N, jmax = -1;
-                for (uint32_t q = fb; q < fe; ++q) {
-                    const auto [ti, fi] = g.frags[q];
-                    const Tile& tile = psf.tiles[ti];
-                    const Fragment& fr = tile.fragments[fi];
-                    const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                     for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
                     imin = std::min(imin, tile.s * m);
                     imax = std::max(imax, tile.s * m + m - 1);
                     jmin = std::min(jmin, tile.t * m + fr.row_begin);
                     jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
-                }
+                });
                 if (received.x <= 0 && received.y <= 0 && received.z <= 0) continue;
                 res.absorbed += received * (Rgb(1.0) - mat.diffuse - mat.specular);
                 if (mat.is_diffuse()) {
@@ -623,18 +615,14 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                     src.height = jmax - jmin + 1;
                     src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
                     src.covered.assign(size_t(src.width) * src.height, 0);
-                    for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = g.frags[q];
-                        const Tile& tile = psf.tiles[ti];
-                        const Fragment& fr = tile.fragments[fi];
-                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                             const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
                                               (tile.s * m + u - src.i0);
                             src.radiance[at] = RgbF(w.in[base + k] / beam);
                             src.covered[at] = 1;
                         });
-                    }
+                    });
                     res.sources.push_back(std::move(src));
                 }
             }
