@@ -33,6 +33,9 @@ struct Options {
 };
 
 int run(const Options& o) {
+    // What the process holds before any scene data: code, libraries, the runtime. The
+    // report's peak_rss minus this is what the propagation itself needed.
+    const int64_t startup_rss = vlf::current_rss_bytes();
     vlf::PropagateParams p = o.params;
     p.field.scheme = vlf::direction_scheme_from_string(o.scheme);
     p.deferred = !o.no_deferred;
@@ -73,12 +76,17 @@ int run(const Options& o) {
     vlf::Propagation run = vlf::propagate(scene, p, run_opts);
     const auto t0 = std::chrono::steady_clock::now();
     nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0);
-    const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report);
-    vlf::write_bake(o.output, bake);
+    // The light field goes from the radiance maps to the file one direction at a time.
+    const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report, false);
+    vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));
     const double write_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     report["timings_s"]["write"] = write_s;
     report["timings_s"]["total"] = run.seconds_total + write_s;
+    // peak_rss of the propagation_report is before the bake was assembled and written.
+    report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];
+    report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write
+    report["memory_bytes"]["startup_rss"] = startup_rss;
     if (!o.report.empty()) vlf::write_json_atomically(o.report, report);
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
@@ -126,6 +134,10 @@ int main(int argc, char** argv) {
                  "Skip backward ray-traced resampling of specular maps (VLF §5)");
     app.add_flag("--store-all-rays", o.params.store_all_rays,
                  "Store L_T of every fragment in the bake, not only specular ones");
+    app.add_option("--cache-budget", o.params.cache_budget_mib,
+                   "MiB of per-direction geometry kept across cycles (0 = rebuild every "
+                   "cycle: least memory); speed and memory only, the bake is the same")
+        ->capture_default_str();
     app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")->capture_default_str();
     app.add_flag("-q,--quiet", o.quiet, "No progress bar");
 

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <iostream>
 #include <string>
 
@@ -96,11 +97,13 @@ struct Fixture {
     Scene scene;
     PropagateParams params;
     Bake bake;
+    Propagation run;
+    nlohmann::json report;
     Fixture() {
         scene = load_scene_from_string(kScene, "bake-test.json", ".");
         params = small_params();
-        const Propagation run = propagate(scene, params, {});
-        const nlohmann::json report = propagation_report(scene, params, run, 0.0);
+        run = propagate(scene, params, {});
+        report = propagation_report(scene, params, run, 0.0);
         bake = make_bake(scene, params, *run.transport, report);
     }
 };
@@ -295,6 +298,27 @@ TEST_F(BakeBundle, RoundTrip) {
     ASSERT_EQ(b.rays.radiance.size(), a.rays.radiance.size());
     for (size_t k = 0; k < a.rays.radiance.size(); ++k)
         ASSERT_EQ(b.rays.radiance[k], a.rays.radiance[k]) << "sample " << k;
+}
+
+// propagate writes the light field straight from the radiance maps, one direction at a
+// time; the file must be the one the in-memory bake writes, byte for byte.
+TEST_F(BakeBundle, StreamedLightFieldIsTheInMemoryOne) {
+    const Fixture& fx = fixture();
+    write_bake(m_bundle, fx.bake);
+    const std::string streamed = (m_dir / "streamed.vlf").string();
+    const Bake meta = make_bake(fx.scene, fx.params, *fx.run.transport, fx.report, false);
+    EXPECT_TRUE(meta.rays.face.empty());
+    write_bake(streamed, meta, ray_source(fx.scene, fx.params, *fx.run.transport));
+    auto bytes = [](const fs::path& f) {
+        std::ifstream in(f, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::string a = bytes(file("lightfield.exr")), b = bytes(fs::path(streamed) / "lightfield.exr");
+    ASSERT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == b) << "sizes " << a.size() << " and " << b.size();
+    const Bake back = read_bake(streamed);
+    EXPECT_EQ(back.rays.face, fx.bake.rays.face);
+    EXPECT_EQ(back.rays.pixel_offset, fx.bake.rays.pixel_offset);
 }
 
 TEST_F(BakeBundle, ReplacesAnExistingBundle) {

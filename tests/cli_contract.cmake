@@ -39,6 +39,8 @@ expect_err_contains("9, 33, 129, 513, 2049, 8193")
 expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --tile abc)
 expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --scheme spiral)
 expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --cycles 0)
+expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --cache-budget -5)
+expect_err_contains("--cache-budget")
 expect_exit(2 ${PROPAGATE} "${WORK_DIR}/missing.json" --dry-run)
 expect_err_contains("missing.json")
 

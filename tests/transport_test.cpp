@@ -281,6 +281,21 @@ TEST(TransportPerturbation, ReducesHoles) {
                                       << ", perturbed " << perturbed;
 }
 
+void expect_same_maps(const Transport& one, const Transport& two) {
+    const TextureMaps &a = one.texture_maps(), &b = two.texture_maps();
+    ASSERT_EQ(a.texels(), b.texels());
+    for (size_t k = 0; k < a.texels(); ++k) {
+        ASSERT_EQ(a.total[k], b.total[k]) << "texel " << k;
+        ASSERT_EQ(a.current[k], b.current[k]) << "texel " << k;
+    }
+    const RadianceMaps &x = one.specular_maps(), &y = two.specular_maps();
+    ASSERT_EQ(x.total.size(), y.total.size());
+    for (size_t k = 0; k < x.total.size(); ++k) {
+        ASSERT_EQ(x.total[k], y.total[k]) << "ray " << k;
+        ASSERT_EQ(x.unshot[k], y.unshot[k]) << "ray " << k;
+    }
+}
+
 TEST(TransportDeterminism, SameMapsOnOneAndTwoThreads) {
     const Scene scene = from_json(kClosedWithMirror);
     PropagateParams p = params(129, 32, 8, 3, true);
@@ -295,18 +310,28 @@ TEST(TransportDeterminism, SameMapsOnOneAndTwoThreads) {
         ThreadLimit limit(2);
         two = run(scene, p);
     }
-    const TextureMaps &a = one->texture_maps(), &b = two->texture_maps();
-    ASSERT_EQ(a.texels(), b.texels());
-    for (size_t k = 0; k < a.texels(); ++k) {
-        ASSERT_EQ(a.total[k], b.total[k]) << "texel " << k;
-        ASSERT_EQ(a.current[k], b.current[k]) << "texel " << k;
-    }
-    const RadianceMaps &x = one->specular_maps(), &y = two->specular_maps();
-    ASSERT_EQ(x.total.size(), y.total.size());
-    for (size_t k = 0; k < x.total.size(); ++k) {
-        ASSERT_EQ(x.total[k], y.total[k]) << "ray " << k;
-        ASSERT_EQ(x.unshot[k], y.unshot[k]) << "ray " << k;
-    }
+    expect_same_maps(*one, *two);
+}
+
+// The geometry cache trades memory for speed only: with every direction kept, none, or
+// some (a budget too small for all), the maps are bit-identical.
+TEST(TransportDeterminism, CacheBudgetDoesNotChangeTheMaps) {
+    const Scene scene = from_json(kClosedWithMirror);
+    PropagateParams p = params(129, 32, 8, 3, true);
+    const std::unique_ptr<Transport> all = run(scene, p);
+    EXPECT_EQ(all->cached_directions(), 129);
+    p.cache_budget_mib = 0;
+    const std::unique_ptr<Transport> none = run(scene, p);
+    EXPECT_EQ(none->cached_directions(), 0);
+    EXPECT_EQ(none->geometry_cache_bytes(), 0);
+    p.cache_budget_mib = std::max<int64_t>(1, (all->geometry_cache_bytes() >> 20) / 2);
+    ASSERT_LT(p.cache_budget_mib << 20, all->geometry_cache_bytes());
+    const std::unique_ptr<Transport> some = run(scene, p);
+    EXPECT_GT(some->cached_directions(), 0);
+    EXPECT_LT(some->cached_directions(), 129);
+    EXPECT_LE(some->geometry_cache_bytes(), p.cache_budget_mib << 20);
+    expect_same_maps(*all, *none);
+    expect_same_maps(*all, *some);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "vlf/checksum.hpp"
@@ -158,48 +159,55 @@ void write_lightmaps(const fs::path& file, const Bake& bake, const Atlas& atlas)
     out.writePixels(atlas.height);
 }
 
-void write_lightfield(const fs::path& file, const Bake& bake) {
-    const RayImages& rays = bake.rays;
-    const int N = rays.resolution, m = rays.tile, l = rays.directions;
-    std::vector<Imf::Header> headers;
-    headers.reserve(l);
-    for (int d = 0; d < l; ++d) {
-        Imf::Header h(N, N);
-        h.setName(part_name(d));
-        h.setType(Imf::DEEPTILE);
-        h.setTileDescription(Imf::TileDescription(m, m, Imf::ONE_LEVEL));
-        h.compression() = Imf::ZIPS_COMPRESSION;  // ZIP and PIZ are rejected for deep data
-        h.channels().insert("face", Imf::Channel(Imf::UINT));
-        h.channels().insert("R", Imf::Channel(Imf::FLOAT));
-        h.channels().insert("G", Imf::Channel(Imf::FLOAT));
-        h.channels().insert("B", Imf::Channel(Imf::FLOAT));
-        const Vec3 w = bake.directions.direction(d);
-        h.insert("vlfDirectionIndex", Imf::IntAttribute(d));
-        h.insert("vlfDirection", Imf::V3dAttribute(Imath::V3d(w.x, w.y, w.z)));
-        h.insert("vlfSolidAngle", Imf::DoubleAttribute(bake.directions.solid_angle(d)));
-        headers.push_back(h);
+// Returns the number of samples written.
+uint64_t write_lightfield(const fs::path& file, const Bake& bake, const RaySource& source) {
+    const PropagateParams& params = bake.params;
+    const int N = params.field.resolution, m = params.field.tile, l = params.field.directions;
+    std::unique_ptr<Imf::MultiPartOutputFile> out;
+    {
+        std::vector<Imf::Header> headers;  // the library keeps its own copies
+        headers.reserve(l);
+        for (int d = 0; d < l; ++d) {
+            Imf::Header h(N, N);
+            h.setName(part_name(d));
+            h.setType(Imf::DEEPTILE);
+            h.setTileDescription(Imf::TileDescription(m, m, Imf::ONE_LEVEL));
+            h.compression() = Imf::ZIPS_COMPRESSION;  // ZIP and PIZ are rejected for deep data
+            h.channels().insert("face", Imf::Channel(Imf::UINT));
+            h.channels().insert("R", Imf::Channel(Imf::FLOAT));
+            h.channels().insert("G", Imf::Channel(Imf::FLOAT));
+            h.channels().insert("B", Imf::Channel(Imf::FLOAT));
+            const Vec3 w = bake.directions.direction(d);
+            h.insert("vlfDirectionIndex", Imf::IntAttribute(d));
+            h.insert("vlfDirection", Imf::V3dAttribute(Imath::V3d(w.x, w.y, w.z)));
+            h.insert("vlfSolidAngle", Imf::DoubleAttribute(bake.directions.solid_angle(d)));
+            headers.push_back(h);
+        }
+        out = std::make_unique<Imf::MultiPartOutputFile>(file.c_str(), headers.data(), l);
     }
-    Imf::MultiPartOutputFile out(file.c_str(), headers.data(), l);
     const size_t px = size_t(N) * N;
-    std::vector<uint32_t> counts(px);
+    DirectionRays rays;
     std::vector<char*> face_ptr(px), ptr[3];
     for (auto& p : ptr) p.resize(px);
+    uint64_t samples = 0;
     for (int d = 0; d < l; ++d) {
+        source(d, rays);
+        VLF_CHECK(rays.counts.size() == px && rays.face.size() == rays.radiance.size());
+        uint64_t at = 0;
         for (size_t k = 0; k < px; ++k) {
-            const uint64_t b = rays.pixel_offset[size_t(d) * px + k];
-            const uint64_t e = rays.pixel_offset[size_t(d) * px + k + 1];
-            counts[k] = static_cast<uint32_t>(e - b);
-            if (e == b) {
+            if (rays.counts[k] == 0) {
                 face_ptr[k] = ptr[0][k] = ptr[1][k] = ptr[2][k] = nullptr;
                 continue;
             }
-            // OpenEXR takes non-const pointers; it only reads them when writing.
-            face_ptr[k] = reinterpret_cast<char*>(const_cast<int32_t*>(&rays.face[b]));
-            float* rad = const_cast<float*>(&rays.radiance[b].x);
+            face_ptr[k] = reinterpret_cast<char*>(&rays.face[at]);
+            float* rad = &rays.radiance[at].x;
             for (int c = 0; c < 3; ++c) ptr[c][k] = reinterpret_cast<char*>(rad + c);
+            at += rays.counts[k];
         }
+        VLF_CHECK(at == rays.face.size());
+        samples += at;
         Imf::DeepFrameBuffer fb;
-        fb.insertSampleCountSlice(Imf::Slice(Imf::UINT, reinterpret_cast<char*>(counts.data()),
+        fb.insertSampleCountSlice(Imf::Slice(Imf::UINT, reinterpret_cast<char*>(rays.counts.data()),
                                              sizeof(uint32_t), sizeof(uint32_t) * N));
         fb.insert("face", Imf::DeepSlice(Imf::UINT, reinterpret_cast<char*>(face_ptr.data()),
                                          sizeof(char*), sizeof(char*) * N, sizeof(int32_t)));
@@ -207,11 +215,86 @@ void write_lightfield(const fs::path& file, const Bake& bake) {
         for (int c = 0; c < 3; ++c)
             fb.insert(names[c], Imf::DeepSlice(Imf::FLOAT, reinterpret_cast<char*>(ptr[c].data()),
                                                sizeof(char*), sizeof(char*) * N, sizeof(RgbF)));
-        Imf::DeepTiledOutputPart part(out, d);
+        Imf::DeepTiledOutputPart part(*out, d);
         part.setFrameBuffer(fb);
         part.writeTiles(0, part.numXTiles() - 1, 0, part.numYTiles() - 1);
     }
+    return samples;
 }
+
+}  // namespace
+
+RaySource ray_source(const RayImages& rays) {
+    return [&rays](int d, DirectionRays& out) {
+        const size_t px = size_t(rays.resolution) * rays.resolution;
+        const uint64_t b = rays.pixel_offset[size_t(d) * px];
+        const uint64_t e = rays.pixel_offset[size_t(d + 1) * px];
+        out.counts.resize(px);
+        for (size_t k = 0; k < px; ++k)
+            out.counts[k] = static_cast<uint32_t>(rays.pixel_offset[size_t(d) * px + k + 1] -
+                                                  rays.pixel_offset[size_t(d) * px + k]);
+        out.face.assign(rays.face.begin() + b, rays.face.begin() + e);
+        out.radiance.assign(rays.radiance.begin() + b, rays.radiance.begin() + e);
+    };
+}
+
+RaySource ray_source(const Scene& scene, const PropagateParams& params, const Transport& transport) {
+    // The radiance maps hold L_T in each face's local ray order (its fragments in tile
+    // row-major order, each in edge-table order); rasterising the face alone with the
+    // same rotation recovers the pixel of every entry. A counting sort by pixel (stable:
+    // each pixel keeps ascending face order) gives the layered depth image.
+    struct Sample {
+        uint32_t pixel;
+        int32_t face;
+        RgbF radiance;
+    };
+    struct State {
+        FaceRaster raster;
+        std::vector<Sample> samples;
+        std::vector<uint32_t> cursor;
+    };
+    auto state = std::make_shared<State>();
+    return [&scene, &params, &transport, state](int d, DirectionRays& out) {
+        const int N = params.field.resolution, m = params.field.tile;
+        const size_t px = size_t(N) * N;
+        const RadianceMaps& spec = transport.specular_maps();
+        const RadianceMaps& other = transport.other_maps();
+        State& st = *state;
+        st.samples.clear();
+        for (const Face& f : scene.faces) {  // ascending face id: per-pixel order is by face
+            const RadianceMaps* maps = spec.stores(f.id)    ? &spec
+                                       : other.stores(f.id) ? &other
+                                                            : nullptr;
+            if (!maps) continue;
+            const uint64_t begin = maps->begin(d, f.id), count = maps->count(d, f.id);
+            rasterise_face(f, transport.rotations()[d], N, m, st.raster);
+            VLF_CHECK(st.raster.covered == count);
+            uint64_t k = begin;
+            for (const FaceFragment& frag : st.raster.fragments)
+                st.raster.edge_table(frag).for_each_ray([&](int u, int v, int) {
+                    const uint32_t i = uint32_t(frag.s) * m + u, j = uint32_t(frag.t) * m + v;
+                    st.samples.push_back({j * uint32_t(N) + i, f.id, maps->total[k++]});
+                });
+        }
+        out.counts.assign(px, 0);
+        for (const Sample& s : st.samples) ++out.counts[s.pixel];
+        st.cursor.resize(px);
+        uint32_t at = 0;
+        for (size_t p = 0; p < px; ++p) {
+            st.cursor[p] = at;
+            at += out.counts[p];
+        }
+        out.face.resize(st.samples.size());
+        out.radiance.resize(st.samples.size());
+        for (const Sample& s : st.samples) {
+            const uint32_t k = st.cursor[s.pixel]++;
+            out.face[k] = s.face;
+            out.radiance[k] = s.radiance;
+        }
+    };
+}
+
+namespace {
 
 // ---------------------------------------------------------------------------------------
 // Reading
@@ -644,7 +727,7 @@ Scene scene_from_json(const json& j, const std::string& name) {
 }
 
 Bake make_bake(const Scene& scene, const PropagateParams& params, const Transport& transport,
-               const json& report) {
+               const json& report, bool with_rays) {
     Bake b;
     b.scene = scene;
     b.params = params;
@@ -672,72 +755,33 @@ Bake make_bake(const Scene& scene, const PropagateParams& params, const Transpor
         for (size_t t = 0; t < tex.count(f.id); ++t)
             b.lightmap_radiance[tex.begin(f.id) + t] = tex.radiance(f, t);
 
-    // Stored rays as layered depth images. The radiance maps hold L_T in each face's
-    // local ray order (its fragments in tile row-major order, each in edge-table order);
-    // rasterising the face alone with the same rotation recovers the pixel of every entry.
+    // Stored rays as layered depth images, one direction at a time.
+    if (!with_rays) return b;
     const int l = transport.directions().size();
-    const int N = params.field.resolution, m = params.field.tile;
-    const RadianceMaps& spec = transport.specular_maps();
-    const RadianceMaps& other = transport.other_maps();
+    const int N = params.field.resolution;
     const size_t px = size_t(N) * N;
-    struct Sample {
-        uint32_t pixel;
-        int32_t face;
-        RgbF radiance;
-    };
-    std::vector<std::vector<Sample>> per_dir(l);
-    parallel_for(0, l, [&](long d) {
-        FaceRaster raster;
-        std::vector<Sample>& out = per_dir[d];
-        for (const Face& f : scene.faces) {  // ascending face id: per-pixel order is by face
-            const RadianceMaps* maps = spec.stores(f.id)    ? &spec
-                                       : other.stores(f.id) ? &other
-                                                            : nullptr;
-            if (!maps) continue;
-            const uint64_t begin = maps->begin(int(d), f.id), count = maps->count(int(d), f.id);
-            rasterise_face(f, transport.rotations()[d], N, m, raster);
-            VLF_CHECK(raster.covered == count);
-            uint64_t k = begin;
-            for (const FaceFragment& frag : raster.fragments)
-                raster.edge_table(frag).for_each_ray([&](int u, int v, int) {
-                    const uint32_t i = uint32_t(frag.s) * m + u, j = uint32_t(frag.t) * m + v;
-                    out.push_back({j * uint32_t(N) + i, f.id, maps->total[k++]});
-                });
-        }
-    });
     RayImages& rays = b.rays;
     rays.directions = l;
     rays.resolution = N;
-    rays.tile = m;
+    rays.tile = params.field.tile;
     rays.pixel_offset.assign(size_t(l) * px + 1, 0);
-    size_t total = 0;
-    for (const auto& v : per_dir) total += v.size();
-    rays.face.resize(total);
-    rays.radiance.resize(total);
-    std::vector<uint64_t> cursor(px);
+    const RaySource source = ray_source(scene, params, transport);
+    DirectionRays dr;
     uint64_t at = 0;
     for (int d = 0; d < l; ++d) {
-        // Counting sort by pixel; stable, so each pixel keeps ascending face order.
-        std::fill(cursor.begin(), cursor.end(), 0);
-        for (const Sample& s : per_dir[d]) ++cursor[s.pixel];
+        source(d, dr);
         for (size_t p = 0; p < px; ++p) {
             rays.pixel_offset[size_t(d) * px + p] = at;
-            const uint64_t n = cursor[p];
-            cursor[p] = at;
-            at += n;
+            at += dr.counts[p];
         }
-        for (const Sample& s : per_dir[d]) {
-            const uint64_t k = cursor[s.pixel]++;
-            rays.face[k] = s.face;
-            rays.radiance[k] = s.radiance;
-        }
-        std::vector<Sample>().swap(per_dir[d]);
+        rays.face.insert(rays.face.end(), dr.face.begin(), dr.face.end());
+        rays.radiance.insert(rays.radiance.end(), dr.radiance.begin(), dr.radiance.end());
     }
     rays.pixel_offset.back() = at;
     return b;
 }
 
-void write_bake(const std::string& path_in, const Bake& bake) {
+void write_bake(const std::string& path_in, const Bake& bake, const RaySource& rays) {
     const std::string path = strip_slashes(path_in);
     const fs::path dest(path);
     const fs::path partial(path + ".partial");
@@ -771,11 +815,12 @@ void write_bake(const std::string& path_in, const Bake& bake) {
         manifest["lightmap_atlas"] = {{"width", atlas.width}, {"height", atlas.height}};
 
         step = kLightfield;
-        write_lightfield(partial / kLightfield, bake);
-        manifest["lightfield"] = {{"directions", bake.rays.directions},
-                                  {"resolution", bake.rays.resolution},
-                                  {"tile", bake.rays.tile},
-                                  {"samples", bake.rays.face.size()}};
+        const uint64_t samples =
+            write_lightfield(partial / kLightfield, bake, rays ? rays : ray_source(bake.rays));
+        manifest["lightfield"] = {{"directions", bake.params.field.directions},
+                                  {"resolution", bake.params.field.resolution},
+                                  {"tile", bake.params.field.tile},
+                                  {"samples", samples}};
 
         step = kManifest;
         json files = json::object();

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -54,12 +55,28 @@ struct Bake {
     RayImages rays;
 };
 
-// In-memory bake from a finished propagation (no files).
+// In-memory bake from a finished propagation (no files); with_rays = false leaves
+// bake.rays empty (write it with ray_source(scene, params, transport)).
 Bake make_bake(const Scene& scene, const PropagateParams& params, const Transport& transport,
-               const nlohmann::json& report);
+               const nlohmann::json& report, bool with_rays = true);
 
-// Writes the bundle atomically; throws Error naming the path on failure.
-void write_bake(const std::string& path, const Bake& bake);
+// One direction's stored rays as a layered depth image: per pixel (row-major, N x N) a
+// sample count, the samples in pixel order, ascending face id within a pixel.
+struct DirectionRays {
+    std::vector<uint32_t> counts;
+    std::vector<int32_t> face;
+    std::vector<RgbF> radiance;
+};
+// Fills `out` with the stored rays of direction d (0 <= d < directions).
+using RaySource = std::function<void(int d, DirectionRays& out)>;
+RaySource ray_source(const RayImages& rays);
+// Straight from a finished propagation's radiance maps: the bake's rays without holding
+// all of them in memory (what propagate writes with).
+RaySource ray_source(const Scene& scene, const PropagateParams& params, const Transport& transport);
+
+// Writes the bundle atomically; throws Error naming the path on failure. The light field
+// comes from `rays` when given (then bake.rays is not used), else from bake.rays.
+void write_bake(const std::string& path, const Bake& bake, const RaySource& rays = nullptr);
 
 // Reads and verifies a bundle; every defect (missing part, truncated or corrupted file,
 // checksum mismatch, other format version, manifest inconsistent with the files) throws

@@ -33,6 +33,9 @@ void validate(const PropagateParams& p) {
     if (p.supersample < 1 || p.supersample > 8)
         throw ParameterError(
             fmt::format("--supersample: {} is out of range (1 to 8)", p.supersample));
+    if (p.cache_budget_mib < 0 || p.cache_budget_mib > (int64_t(1) << 24))
+        throw ParameterError(fmt::format(
+            "--cache-budget: {} MiB is out of range (0 to 16777216)", p.cache_budget_mib));
     if (p.field.resolution * p.supersample > 4096)
         throw ParameterError(fmt::format(
             "--supersample: N x s = {} x {} exceeds the 4096-ray limit of a PSF side",
@@ -59,6 +62,7 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["resample"] = p.resample;
     j["store_all_rays"] = p.store_all_rays;
     j["seed"] = p.seed;
+    j["cache_budget_mib"] = p.cache_budget_mib;
     return j;
 }
 
@@ -79,6 +83,7 @@ PropagateParams propagate_params_from_json(const nlohmann::json& j) {
         p.resample = j.at("resample").get<bool>();
         p.store_all_rays = j.at("store_all_rays").get<bool>();
         p.seed = j.at("seed").get<uint64_t>();
+        p.cache_budget_mib = j.at("cache_budget_mib").get<int64_t>();
         validate(p);
         return p;
     } catch (const nlohmann::json::exception& e) {

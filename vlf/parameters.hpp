@@ -30,6 +30,10 @@ struct PropagateParams {
     bool resample = true;      // VLF §5 backward ray-traced resampling of specular L_T
     bool store_all_rays = false;  // store L_T of every fragment, not only specular ones
     uint64_t seed = 1;         // perturbation stream seed
+    // MiB of per-direction geometry (PSF, beam/texel overlaps, exchange partners) kept
+    // across cycles; directions beyond it are rebuilt every cycle, as in the paper.
+    // 0: keep nothing (least memory). Changes speed and memory only, never the bake.
+    int64_t cache_budget_mib = 3072;
 };
 
 // Throws ParameterError naming the option ("--tile: ...") for any out-of-range value.

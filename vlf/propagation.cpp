@@ -1,6 +1,9 @@
 #include "vlf/propagation.hpp"
 
 #include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdio>
 
 #include <algorithm>
 #include <chrono>
@@ -73,6 +76,15 @@ int64_t peak_rss_bytes() {
     return static_cast<int64_t>(u.ru_maxrss) * 1024;  // Linux: kilobytes
 }
 
+int64_t current_rss_bytes() {
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (f == nullptr) return 0;
+    long size = 0, resident = 0;
+    const int n = std::fscanf(f, "%ld %ld", &size, &resident);
+    std::fclose(f);
+    return n == 2 ? static_cast<int64_t>(resident) * sysconf(_SC_PAGESIZE) : 0;
+}
+
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
                                   const Propagation& run, double write_seconds) {
     const Transport& t = *run.transport;
@@ -90,6 +102,7 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
         {"texture_maps", static_cast<int64_t>(tex.texels() * 3 * sizeof(Rgb))},
         {"radiance_maps", t.specular_maps().bytes() + t.other_maps().bytes()},
         {"coverage", static_cast<int64_t>(t.coverage().size() * sizeof(uint32_t))},
+        {"geometry_cache", t.geometry_cache_bytes()},
         {"transport_total", t.memory_bytes()},
         {"peak_rss", peak_rss_bytes()}};
     return {{"parameters", to_json(params)},
@@ -97,7 +110,10 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
             {"ledger", ledger},
             {"surfaces", surface_report(scene, tex)},
             {"timings_s", timings},
-            {"memory_bytes", memory}};
+            {"memory_bytes", memory},
+            {"geometry_cache", {{"budget_mib", params.cache_budget_mib},
+                                {"directions_cached", t.cached_directions()},
+                                {"directions", t.directions().size()}}}};
 }
 
 }  // namespace vlf

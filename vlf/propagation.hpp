@@ -38,5 +38,7 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
 
 // Peak resident set size of this process, bytes (0 when unknown).
 int64_t peak_rss_bytes();
+// The process's resident set now (0 where /proc is unavailable).
+int64_t current_rss_bytes();
 
 }  // namespace vlf

@@ -25,6 +25,9 @@ namespace {
 // Directions are split into this many fixed chunks, independent of the thread count;
 // chunk accumulators are reduced in chunk order (determinism).
 constexpr int kChunks = 16;
+// Chunks processed (and their P^N accumulators alive) at a time; any value gives the same
+// sums, since the reduction is always in chunk order.
+constexpr int kWave = 4;
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
@@ -297,16 +300,17 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
                 m_redirect[b + k] = pick;
             }
     });
-    // Keep every direction's geometry for all cycles when it fits the budget.
-    int64_t rays = 0;
-    for (uint32_t c : m_coverage) rays += c;
-    const int64_t estimate = rays * s * s * 48;
-    m_use_cache = estimate <= kGeometryCacheBytes;
     m_cache.resize(static_cast<size_t>(l));
     m_timings.setup = since(t0);
 }
 
 Transport::~Transport() = default;
+
+int Transport::cached_directions() const {
+    int n = 0;
+    for (const auto& g : m_cache) n += g != nullptr;
+    return n;
+}
 
 int64_t Transport::geometry_cache_bytes() const {
     int64_t b = 0;
@@ -323,7 +327,7 @@ double Transport::to_user_power() const {
 int64_t Transport::memory_bytes() const {
     return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
            m_other.bytes() + static_cast<int64_t>(m_coverage.size() * sizeof(uint32_t)) +
-           static_cast<int64_t>(kChunks * m_tex.texels() * sizeof(Rgb)) + geometry_cache_bytes();
+           static_cast<int64_t>(kWave * m_tex.texels() * sizeof(Rgb)) + geometry_cache_bytes();
 }
 
 void Transport::load_emission(LedgerEntry& e) {
@@ -382,11 +386,19 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
         sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
     }
     const GeometryInputs inputs{scene, m_tex, m_inside, m_redirect};
-    std::vector<std::unique_ptr<Geometry>>* cache =
-        true_directions && m_use_cache ? &m_cache : nullptr;
-    std::vector<ChunkResult> chunks(kChunks);
-    parallel_for(0, kChunks, [&](long c) {
-        ChunkResult& res = chunks[c];
+    // Geometry of the true directions is kept across cycles while it fits the budget; the
+    // rest is rebuilt each cycle (identical either way, so the budget never changes a map).
+    std::vector<std::unique_ptr<Geometry>>* cache = true_directions ? &m_cache : nullptr;
+    const int64_t budget = m_params.cache_budget_mib << 20;
+    // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
+    // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
+    // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
+    std::vector<ChunkResult> chunks(kWave);
+    std::vector<SpecularSource> sources;
+    for (int wave = 0; wave < kChunks; wave += kWave) {
+    parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
+        ChunkResult& res = chunks[c - wave];
+        res = ChunkResult{};
         res.next.assign(m_tex.texels(), Rgb(0.0));
         Scratch w;
         const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
@@ -397,12 +409,18 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
             if (cache != nullptr && (*cache)[d]) {
                 gp = (*cache)[d].get();
             } else {
-                std::unique_ptr<Geometry>& slot = cache != nullptr ? (*cache)[d] : w.local;
-                if (!slot) slot = std::make_unique<Geometry>();
-                Geometry& target = *slot;
-                build_geometry(inputs, rot, d, N, m, target, w.x, w.xs, res.rasterise,
+                if (!w.local) w.local = std::make_unique<Geometry>();
+                build_geometry(inputs, rot, d, N, m, *w.local, w.x, w.xs, res.rasterise,
                                res.clipping, res.exchange);
-                gp = &target;
+                gp = w.local.get();
+                if (cache != nullptr && budget > 0) {
+                    const int64_t b = w.local->bytes();
+                    if (m_cache_used.fetch_add(b) + b <= budget) {
+                        (*cache)[d] = std::move(w.local);
+                    } else {
+                        m_cache_used.fetch_sub(b);
+                    }
+                }
             }
             const Geometry& g = *gp;
             const Psf& psf = g.psf;
@@ -631,17 +649,19 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
     });
 
     // Reductions, in chunk order.
-    for (ChunkResult& c : chunks) {
+    const int in_wave = std::min(kWave, kChunks - wave);
+    for (int k = 0; k < in_wave; ++k) {
+        ChunkResult& c = chunks[k];
         for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
         m_running.absorbed += c.absorbed;
         m_running.escaped += c.escaped;
         m_timings.rasterise += c.rasterise;
         m_timings.clipping += c.clipping;
         m_timings.exchange += c.exchange;
-    }
-    std::vector<SpecularSource> sources;
-    for (ChunkResult& c : chunks)
         for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
+        c = ChunkResult{};
+    }
+    }
     const auto t0 = Clock::now();
     if (!sources.empty())
         gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);

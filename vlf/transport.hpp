@@ -21,6 +21,7 @@
 // depend on the number of threads (DESIGN §5 Parallelism).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -43,9 +44,6 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
                                      const std::vector<uint32_t>& coverage);
 
 struct DirectionGeometry;  // per-direction PSF, overlaps and exchange partners (transport.cpp)
-
-// Directions' geometry is cached across cycles while its estimate stays below this.
-inline constexpr int64_t kGeometryCacheBytes = int64_t(3) << 30;
 
 struct TransportTimings {
     double setup = 0, rasterise = 0, clipping = 0, exchange = 0, specular = 0, filter = 0;
@@ -84,7 +82,8 @@ public:
     const TransportTimings& timings() const { return m_timings; }
     int64_t memory_bytes() const;
     int64_t geometry_cache_bytes() const;
-    bool caches_geometry() const { return m_use_cache; }
+    // Directions whose geometry is kept across cycles (within params().cache_budget_mib).
+    int cached_directions() const;
     // Faces deferred in the last cycle run (VLF §4.5).
     const std::vector<uint8_t>& deferred() const { return m_deferred; }
     // Ledger values are kept in normalised units internally; this converts a power to
@@ -114,7 +113,7 @@ private:
     LedgerEntry m_running;               // cumulative absorbed/escaped/emitted
     double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
     TransportTimings m_timings;
-    bool m_use_cache = false;
+    std::atomic<int64_t> m_cache_used{0};  // bytes of geometry in m_cache
     class Progress* m_progress = nullptr;
     std::vector<std::unique_ptr<DirectionGeometry>> m_cache;
 };
