@@ -32,28 +32,37 @@ struct Poly {
     int n = 0;
 };
 
-// Sutherland–Hodgman against the half-plane sign*(coord_axis - c) >= 0.
-inline void clip(const Poly& in, Poly& out, int axis, double c, double sign) {
-    out.n = 0;
+// Splits a convex polygon by the line coord_axis = c into the part below (<= c) and the
+// part above (>= c), in one Sutherland–Hodgman pass that shares the crossing points, so
+// the two parts tile the polygon exactly.
+template <int axis>
+inline void split(const Poly& in, double c, Poly& below, Poly& above) {
+    below.n = above.n = 0;
     if (in.n == 0) return;
+    const Vec2* a = &in.v[in.n - 1];
+    double da = (*a)[axis] - c;
     for (int k = 0; k < in.n; ++k) {
-        const Vec2& a = in.v[k];
-        const Vec2& b = in.v[(k + 1) % in.n];
-        const double da = sign * (a[axis] - c), db = sign * (b[axis] - c);
-        if (da >= 0) out.v[out.n++] = a;
-        if ((da >= 0) != (db >= 0)) {
-            const double t = da / (da - db);
-            out.v[out.n++] = a + (b - a) * t;
+        const Vec2& b = in.v[k];
+        const double db = b[axis] - c;
+        if ((da < 0) != (db < 0) && da != 0 && db != 0) {
+            const Vec2 x = *a + (b - *a) * (da / (da - db));
+            below.v[below.n++] = x;
+            above.v[above.n++] = x;
         }
+        if (db <= 0) below.v[below.n++] = b;
+        if (db >= 0) above.v[above.n++] = b;
+        a = &b;
+        da = db;
     }
 }
 
 inline double area(const Poly& p) {
     double s = 0.0;
+    const Vec2* a = &p.v[p.n - 1];
     for (int k = 0; k < p.n; ++k) {
-        const Vec2& a = p.v[k];
-        const Vec2& b = p.v[(k + 1) % p.n];
-        s += a.x * b.y - a.y * b.x;
+        const Vec2& b = p.v[k];
+        s += a->x * b.y - a->y * b.x;
+        a = &b;
     }
     return 0.5 * std::abs(s);
 }
@@ -86,29 +95,25 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
         if (a > 0) out.push_back({static_cast<uint32_t>(j0 * width + i0), static_cast<float>(a)});
         return static_cast<int>(out.size() - before);
     }
-    Poly col, tmp, cell, tmp2;
+    // Slice column by column, then each column row by row: every cut is made once and
+    // its crossing points are shared by both sides. The last column (row) of the range
+    // keeps the remainder, which is also what makes the rim cells reach outwards.
+    Poly rest = quadp, col, next, cell, rrest, rnext;
     for (int i = i0; i <= i1; ++i) {
-        const Poly* c = &quadp;
-        if (i > 0) {
-            clip(*c, tmp, 0, double(i), 1.0);
-            c = &tmp;
-        }
-        if (i < width - 1) {
-            clip(*c, col, 0, double(i + 1), -1.0);
+        if (i < i1) {
+            split<0>(rest, double(i + 1), col, next);
+            rest = next;
         } else {
-            col = *c;
+            col = rest;
         }
         if (col.n < 3) continue;
+        rrest = col;
         for (int j = j0; j <= j1; ++j) {
-            const Poly* r = &col;
-            if (j > 0) {
-                clip(*r, tmp2, 1, double(j), 1.0);
-                r = &tmp2;
-            }
-            if (j < height - 1) {
-                clip(*r, cell, 1, double(j + 1), -1.0);
+            if (j < j1) {
+                split<1>(rrest, double(j + 1), cell, rnext);
+                rrest = rnext;
             } else {
-                cell = *r;
+                cell = rrest;
             }
             if (cell.n < 3) continue;
             const double a = area(cell);

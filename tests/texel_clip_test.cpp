@@ -1,0 +1,125 @@
+// Continuous clipping (VLF §4.2, vlf/texel_clip.hpp): the overlaps of a beam's footprint
+// with a texel grid are exact areas, they partition the footprint, and the rim cells
+// reach outwards. Checked against an independent clip of the quad by each cell.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "vlf/texel_clip.hpp"
+
+namespace vlf {
+namespace {
+
+using Polygon = std::vector<Vec2>;
+
+// Keeps the part of `p` with sign * (coord - c) >= 0 (the textbook one-plane clip).
+Polygon keep(const Polygon& p, int axis, double c, double sign) {
+    Polygon out;
+    for (size_t k = 0; k < p.size(); ++k) {
+        const Vec2 a = p[k], b = p[(k + 1) % p.size()];
+        const double da = sign * (a[axis] - c), db = sign * (b[axis] - c);
+        if (da >= 0) out.push_back(a);
+        if ((da >= 0) != (db >= 0)) out.push_back(a + (b - a) * (da / (da - db)));
+    }
+    return out;
+}
+
+double area(const Polygon& p) {
+    double s = 0;
+    for (size_t k = 0; k < p.size(); ++k) {
+        const Vec2 a = p[k], b = p[(k + 1) % p.size()];
+        s += a.x * b.y - a.y * b.x;
+    }
+    return 0.5 * std::abs(s);
+}
+
+// Area of the quad inside cell (i, j) of a W x H grid whose rim cells are unbounded
+// outwards.
+double reference_overlap(const Vec2 q[4], int i, int j, int W, int H) {
+    Polygon p(q, q + 4);
+    if (i > 0) p = keep(p, 0, i, 1);
+    if (i < W - 1) p = keep(p, 0, i + 1, -1);
+    if (j > 0) p = keep(p, 1, j, 1);
+    if (j < H - 1) p = keep(p, 1, j + 1, -1);
+    return p.size() >= 3 ? area(p) : 0.0;
+}
+
+void check_quad(const Vec2 q[4], int W, int H) {
+    std::vector<TexelOverlap> ov;
+    const int n = clip_quad_to_grid(q, W, H, ov);
+    ASSERT_EQ(n, static_cast<int>(ov.size()));
+    std::map<uint32_t, double> got;
+    double sum = 0;
+    for (const TexelOverlap& o : ov) {
+        ASSERT_LT(o.texel, uint32_t(W * H));
+        ASSERT_EQ(got.count(o.texel), 0u) << "texel " << o.texel << " listed twice";
+        ASSERT_GT(o.area, 0.0f);
+        got[o.texel] = o.area;
+        sum += o.area;
+    }
+    const double whole = area(Polygon(q, q + 4));
+    EXPECT_NEAR(sum, whole, 1e-6 * whole + 1e-12) << "the overlaps must partition the quad";
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            const double want = reference_overlap(q, i, j, W, H);
+            const auto it = got.find(uint32_t(j * W + i));
+            const double have = it == got.end() ? 0.0 : it->second;
+            EXPECT_NEAR(have, want, 1e-6 * whole + 1e-9) << "cell " << i << "," << j;
+        }
+}
+
+TEST(TexelClip, RandomParallelogramsMatchAnIndependentClip) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> pos(-1.0, 9.0), len(-2.5, 2.5);
+    for (int trial = 0; trial < 400; ++trial) {
+        const Vec2 c(pos(rng), pos(rng)), ax(len(rng), len(rng)), ay(len(rng), len(rng));
+        const Vec2 q[4] = {c - ax - ay, c + ax - ay, c + ax + ay, c - ax + ay};
+        SCOPED_TRACE(trial);
+        check_quad(q, 8, 6);
+    }
+}
+
+TEST(TexelClip, QuadInsideOneCellKeepsItsArea) {
+    const Vec2 q[4] = {{2.1, 3.1}, {2.6, 3.2}, {2.7, 3.8}, {2.2, 3.7}};
+    std::vector<TexelOverlap> ov;
+    ASSERT_EQ(clip_quad_to_grid(q, 5, 5, ov), 1);
+    EXPECT_EQ(ov[0].texel, 3u * 5 + 2);
+    EXPECT_NEAR(ov[0].area, area(Polygon(q, q + 4)), 1e-7);
+}
+
+TEST(TexelClip, RimCellsTakeWhatSpillsOver) {
+    // Half of a unit square hangs off the left edge of a 4 x 4 grid: all of it lands on
+    // column 0, split between rows 1 and 2.
+    const Vec2 q[4] = {{-0.5, 1.5}, {0.5, 1.5}, {0.5, 2.5}, {-0.5, 2.5}};
+    std::vector<TexelOverlap> ov;
+    clip_quad_to_grid(q, 4, 4, ov);
+    ASSERT_EQ(ov.size(), 2u);
+    for (const TexelOverlap& o : ov) {
+        EXPECT_EQ(o.texel % 4, 0u);
+        EXPECT_NEAR(o.area, 0.5, 1e-7);
+    }
+    // Entirely outside, beyond a corner: the corner cell takes it whole.
+    const Vec2 far[4] = {{10, 10}, {11, 10}, {11, 11}, {10, 11}};
+    ov.clear();
+    ASSERT_EQ(clip_quad_to_grid(far, 4, 4, ov), 1);
+    EXPECT_EQ(ov[0].texel, 15u);
+    EXPECT_NEAR(ov[0].area, 1.0, 1e-7);
+}
+
+TEST(TexelClip, VerticesOnGridLinesAreNotDoubleCounted) {
+    // A square whose corners sit exactly on grid lines covers four cells exactly.
+    const Vec2 q[4] = {{1, 1}, {3, 1}, {3, 3}, {1, 3}};
+    check_quad(q, 5, 5);
+    std::vector<TexelOverlap> ov;
+    clip_quad_to_grid(q, 5, 5, ov);
+    EXPECT_EQ(ov.size(), 4u);
+    // A diamond through grid vertices.
+    const Vec2 d[4] = {{2, 1}, {3, 2}, {2, 3}, {1, 2}};
+    check_quad(d, 5, 5);
+}
+
+}  // namespace
+}  // namespace vlf
