@@ -14,10 +14,10 @@
 # Each configuration is run 3 times and the median reported; a configuration whose first
 # run takes longer than 60 s is run once (the tables say how many runs each figure is).
 #
+# Every configuration runs in two modes, fast (the default geometry cache) and lean
+# (--cache-budget 0), plus one lean run under heaptrack for the peak heap.
 # --quick (under 5 minutes on the 2-core machine): l up to 513, tiles at l = 129, the three
 # smallest complexity scenes, Fig. 12 at l = 513, N = 64, m = 8. The tables say "quick".
-# The full series is estimated at 11-15 min on the shared 2-core machine (l = 8193 about
-# 1.5 min and 2.5 GB, Fig. 12 about 1.5 min and 2 GB, one run each).
 #
 # Usage: bench/paper_tables.sh [--quick] [-b BUILD_DIR] [-t THREADS] [-r REPEAT]
 # Progress goes to stderr. Needs python3 and gnuplot (pngcairo or png terminal).
@@ -46,6 +46,8 @@ cd "$root"
 prop=$build/propagate/propagate
 [ -x "$prop" ] || { echo "$0: $prop not found (run 'make build')" >&2; exit 2; }
 command -v gnuplot > /dev/null || { echo "$0: gnuplot not found" >&2; exit 2; }
+command -v heaptrack > /dev/null && command -v heaptrack_print > /dev/null ||
+  { echo "$0: heaptrack not found (scripts/install-deps.sh installs it)" >&2; exit 2; }
 grep -q '<!-- paper-tables:begin -->' BENCHMARKS.md && grep -q '<!-- paper-tables:end -->' BENCHMARKS.md ||
   { echo "$0: BENCHMARKS.md lacks the paper-tables markers" >&2; exit 2; }
 
@@ -56,23 +58,36 @@ load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 log() { printf '[paper-tables %s +%ds] %s\n' "$(date +%H:%M:%S)" $(($(date +%s) - start)) "$*" >&2; }
 total_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["timings_s"]["total"])' "$1"; }
 
-# run SERIES KEY SCENE L N M: one dry run (light-field statistics) and up to $repeat runs.
+# run SERIES KEY SCENE L N M: one dry run (light-field statistics), then for each mode up
+# to $repeat runs: "fast" (the default geometry cache) and "lean" (--cache-budget 0: every
+# direction's geometry rebuilt each cycle, as in the paper); plus one lean run under
+# heaptrack for the peak heap (what the engine itself allocated).
 run() {
-  local series=$1 key=$2 scene=$3 l=$4 n=$5 m=$6 i t runs=0
+  local series=$1 key=$2 scene=$3 l=$4 n=$5 m=$6 i t runs mode
   local opts=(-l "$l" -N "$n" -m "$m" -c 4 -t "$threads")
   "$prop" "$scene" --dry-run "${opts[@]}" --report "$work/$series-$key-dry.json" > /dev/null
-  for i in $(seq 1 "$repeat"); do
-    "$prop" "$scene" "${opts[@]}" -q -o "$work/run.vlf" --report "$work/$series-$key-$i.json" > /dev/null
-    rm -rf "$work/run.vlf"
-    runs=$i
-    t=$(total_of "$work/$series-$key-$i.json" | xargs printf '%.2f')
-    log "$series $key ($scene -l $l -N $n -m $m): run $i/$repeat ${t} s (load $(cut -d' ' -f1 /proc/loadavg))"
-    if python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)' "$t" "$long_s"; then
-      break
-    fi
+  for mode in fast lean; do
+    local extra=()
+    [ $mode = lean ] && extra=(--cache-budget 0)
+    runs=0
+    for i in $(seq 1 "$repeat"); do
+      "$prop" "$scene" "${opts[@]}" "${extra[@]}" -q -o "$work/run.vlf" --report "$work/$series-$key-$mode-$i.json" > /dev/null
+      rm -rf "$work/run.vlf"
+      runs=$i
+      t=$(total_of "$work/$series-$key-$mode-$i.json" | xargs printf '%.2f')
+      log "$series $key $mode ($scene -l $l -N $n -m $m ${extra[*]}): run $i/$repeat ${t} s (load $(cut -d' ' -f1 /proc/loadavg))"
+      if python3 -c 'import sys; sys.exit(0 if float(sys.argv[1]) > float(sys.argv[2]) else 1)' "$t" "$long_s"; then
+        break
+      fi
+    done
+    printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$series" "$key" "$mode" "$scene" "$l" "$n" "$m" "$runs" \
+      "$(cut -d' ' -f1 /proc/loadavg)" >> "$work/configs.tsv"
   done
-  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$series" "$key" "$scene" "$l" "$n" "$m" "$runs" \
-    "$(cut -d' ' -f1 /proc/loadavg)" >> "$work/configs.tsv"
+  heaptrack -o "$work/ht" "$prop" "$scene" "${opts[@]}" --cache-budget 0 -q -o "$work/run.vlf" > /dev/null 2>&1
+  rm -rf "$work/run.vlf"
+  heaptrack_print "$work/ht.zst" 2> /dev/null | sed -n 's/^peak heap memory consumption: //p' > "$work/$series-$key-heap.txt"
+  rm -f "$work/ht.zst"
+  log "$series $key lean peak heap $(cat "$work/$series-$key-heap.txt")"
 }
 
 if [ $quick = 1 ]; then
@@ -119,21 +134,38 @@ P_POLY_MEM = {224: 75, 1736: 458}
 P_FIG12_MIN = 16 * 60
 
 configs = []
+
+
+def mode_stats(series, key, mode, runs, load):
+    reps = [json.load(open(f"{W}/{series}-{key}-{mode}-{i}.json")) for i in range(1, int(runs) + 1)]
+    med = lambda get: statistics.median(get(r) for r in reps)
+    mem = lambda k: med(lambda r: r["memory_bytes"][k]) / MiB
+    return dict(
+        runs=int(runs), load=float(load), t=med(lambda r: r["timings_s"]["total"]),
+        write=med(lambda r: r["timings_s"]["write"]), rss=mem("peak_rss"), rss_prop=mem("peak_rss_propagation"),
+        startup=mem("startup_rss"), cache=mem("geometry_cache"),
+        cached=reps[0]["geometry_cache"]["directions_cached"], dirs=reps[0]["geometry_cache"]["directions"],
+        ledger=max(e["relative_error"] for r in reps for e in r["ledger"]))
+
+
+def heap_mb(text):  # heaptrack_print's "15.99M" (decimal units)
+    m = re.match(r"([0-9.]+)([KMG]?)", text.strip())
+    return float(m.group(1)) * {"": 1e-6, "K": 1e-3, "M": 1.0, "G": 1e3}[m.group(2)] if m else None
+
+
+index = {}
 for line in open(f"{W}/configs.tsv"):
-    series, key, scene, l, n, m, runs, load = line.rstrip("\n").split("\t")
-    reps = [json.load(open(f"{W}/{series}-{key}-{i}.json")) for i in range(1, int(runs) + 1)]
-    dry = json.load(open(f"{W}/{series}-{key}-dry.json"))
-    totals = [r["timings_s"]["total"] for r in reps]
-    configs.append(dict(
-        series=series, key=key, scene=scene, l=int(l), N=int(n), m=int(m), runs=int(runs), load=float(load),
-        totals=totals, t=statistics.median(totals),
-        write=statistics.median(r["timings_s"]["write"] for r in reps),
-        rss=statistics.median(r["memory_bytes"]["peak_rss"] for r in reps) / MiB,
-        transport=statistics.median(r["memory_bytes"]["transport_total"] for r in reps) / MiB,
-        vlf=dry["field"]["memory_bytes"]["total"] / MiB,
-        fpt=dry["field"]["fragments_per_tile_mean"], fpt_sd=dry["field"]["fragments_per_tile_stddev"],
-        faces=dry["scene"]["faces"], specular=dry["scene"]["specular_faces"],
-        ledger=max(e["relative_error"] for r in reps for e in r["ledger"])))
+    series, key, mode, scene, l, n, m, runs, load = line.rstrip("\n").split("\t")
+    if (series, key) not in index:
+        dry = json.load(open(f"{W}/{series}-{key}-dry.json"))
+        heap = open(f"{W}/{series}-{key}-heap.txt").read()
+        c = dict(series=series, key=key, scene=scene, l=int(l), N=int(n), m=int(m),
+                 vlf=dry["field"]["memory_bytes"]["total"] / MiB,
+                 fpt=dry["field"]["fragments_per_tile_mean"], fpt_sd=dry["field"]["fragments_per_tile_stddev"],
+                 faces=dry["scene"]["faces"], specular=dry["scene"]["specular_faces"], heap=heap_mb(heap))
+        index[(series, key)] = c
+        configs.append(c)
+    index[(series, key)][mode] = mode_stats(series, key, mode, runs, load)
 by = lambda s: [c for c in configs if c["series"] == s]
 
 
@@ -149,7 +181,8 @@ REPEAT = int(os.environ["REPEAT"])
 
 
 def runs(c):
-    return f"{c['runs']}" + ("" if c["runs"] >= REPEAT else " ¹")
+    r = [c[k]["runs"] for k in ("fast", "lean")]
+    return "/".join(str(x) for x in r) + ("" if min(r) >= REPEAT else " ¹")
 
 
 def slope(xs, ys):  # least-squares slope of log y on log x
@@ -177,22 +210,28 @@ if quick:
       "2049, 128, 16). Ratios are given only where our configuration is the paper's. "
       "The full series is `bench/paper_tables.sh` (no option).")
     w("")
-w(f"Machine: 2 cores (AMD EPYC, virtualised), **shared** with other engineers' builds and tests — "
+w(f"Machine: 2 cores (AMD EPYC, virtualised), shared with other work — "
   f"load average {os.environ['LOAD_START'].split()[0]} at the start, {os.environ['LOAD_END'].split()[0]} at the end "
-  f"(per configuration in the `load` column). `propagate -t {threads}` "
-  f"({'both cores' if threads == 0 else f'{threads} thread(s)'}); the paper used one 1.7 GHz Xeon core. "
+  f"(per configuration in the `load` column, fast/lean). `propagate -t {threads}` "
+  f"({'both cores' if threads == 0 else f'{threads} thread(s)'}); the paper used one 1.7 GHz Xeon core "
+  "and a single mode. Every configuration is run in two modes: **fast** — the default geometry cache "
+  "(`--cache-budget 3072`: each direction's PSF, beam/texel overlaps and exchange partners are kept across "
+  "cycles) — and **lean** — `--cache-budget 0`, every direction rebuilt in every cycle as in the paper, "
+  "which holds one direction per thread and is the mode to compare memory with. "
   "Time is wall-clock `timings_s.total` of the `--report` (includes writing the bake, column `write`); "
-  f"every figure is the median of {os.environ['REPEAT']} runs unless marked ¹ (a first run over "
-  f"{os.environ['LONG_S']} s is not repeated: 1 run). "
-  "**speed-up** = paper time / our time (wall against wall, not per core); "
-  "**RSS/paper** = our peak resident memory / the paper's memory figure. "
-  "`VLF est.` is the light-field estimate of `--dry-run` (tiles, fragments, edge tables, maps — "
-  "the structure the paper's memory figure counts); `transport` is what the transport counts "
-  "(texture and radiance maps plus the per-direction geometry cache, reserved, not all resident); "
-  "peak RSS is the whole process. Fragments per tile are the `--dry-run` statistics "
-  "(`field.fragments_per_tile_mean` ± `_stddev`, non-empty tiles), the analogue of the paper's "
+  f"every figure is the median of {os.environ['REPEAT']} runs (runs column: fast/lean) unless marked ¹ "
+  f"(a first run over {os.environ['LONG_S']} s is not repeated). "
+  "**speed-up** = paper time / our time (wall against wall, not per core). "
+  "Memory: **peak RSS** is the whole process's high-water mark (`getrusage`), writing the bake included; "
+  "**above start-up** subtracts the resident set before the scene is loaded (code, shared libraries, "
+  "runtime: about 8 MiB), but still counts library code paged in later (Embree, OpenEXR, zlib); "
+  "**peak heap** is the most the engine had allocated at any moment (`heaptrack`, one lean run) — the "
+  "closest analogue of the paper's figure, which counts its data structures. Ratios `/paper` are ours "
+  "over the paper's (below 1: less memory than the paper). `VLF est.` is the `--dry-run` estimate of "
+  "the whole light field held at once (tiles, fragments, edge tables, maps). Fragments per tile are "
+  "the `--dry-run` statistics (mean ± sd over non-empty tiles), the analogue of the paper's "
   "'polygons per tile'. Worst ledger balance error over all runs: "
-  f"{max(c['ledger'] for c in configs):.1e}.")
+  f"{max(c[k]['ledger'] for c in configs for k in ('fast', 'lean')):.1e}.")
 w("")
 
 # ---- scenes ------------------------------------------------------------------------------
@@ -212,18 +251,37 @@ for p in sorted(glob.glob(f"{W}/scene-*")):
 w("")
 
 
-def table_head(first, extra_head="", extra_align=""):
-    w(f"| {first} | runs | ours (s) | write (s) | paper (min) | speed-up | peak RSS (MiB) | transport (MiB) "
-      f"| VLF est. (MiB) | paper (MB) | RSS/paper | fragments/tile{extra_head} | load |")
-    w(f"| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---:{extra_align} | ---: |")
+def speedup(pmin, t):
+    return f"{pmin * 60 / t:,.0f}×" if pmin else "—"
 
 
-def row(first, c, pmin, pmb, extra=""):
-    sp = f"{pmin * 60 / c['t']:,.0f}×" if pmin else "—"
-    rr = f"{c['rss'] / pmb:.2f}" if pmb else "—"
-    w(f"| {first} | {runs(c)} | **{secs(c['t'])}** | {secs(c['write'])} | {f(pmin)} | {sp} | {f(c['rss'])} "
-      f"| {f(c['transport'])} | {f(c['vlf'])} | {f(pmb, 0)} | {rr} | {c['fpt']:.2f} ± {c['fpt_sd']:.2f}{extra} "
-      f"| {c['load']:.1f} |")
+def time_table(first, rows):
+    """rows: (label, config, paper minutes or None)"""
+    w(f"| {first} | runs | fast (s) | lean (s) | write (s) | paper (min) | speed-up fast | speed-up lean | load |")
+    w("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+    for label, c, pmin in rows:
+        F, L = c["fast"], c["lean"]
+        w(f"| {label} | {runs(c)} | **{secs(F['t'])}** | **{secs(L['t'])}** | {secs(F['write'])} | {f(pmin)} "
+          f"| {speedup(pmin, F['t'])} | {speedup(pmin, L['t'])} | {F['load']:.1f}/{L['load']:.1f} |")
+    w("")
+
+
+def ratio(x, p):
+    return f"{x / p:.2f}" if p and x is not None else "—"
+
+
+def memory_table(first, rows, extra_head="", extra_align="", extra=lambda c: ""):
+    """rows: (label, config, paper MB or None)"""
+    w(f"| {first} | peak RSS fast (MiB) | cache fast (MiB, directions) | peak RSS lean (MiB) | lean above start-up (MiB) "
+      f"| lean peak heap (MB) | paper (MB) | lean RSS / paper | lean heap / paper | VLF est. (MiB) | fragments/tile{extra_head} |")
+    w(f"| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---:{extra_align} |")
+    for label, c, pmb in rows:
+        F, L = c["fast"], c["lean"]
+        above = L["rss"] - L["startup"]
+        w(f"| {label} | {f(F['rss'])} | {f(F['cache'])} ({F['cached']}/{F['dirs']}) | **{f(L['rss'])}** | {f(above)} "
+          f"| **{f(c['heap'])}** | {f(pmb, 0)} | {ratio(L['rss'] * MiB / 1e6, pmb)} | {ratio(c['heap'], pmb)} "
+          f"| {f(c['vlf'])} | {c['fpt']:.2f} ± {c['fpt_sd']:.2f}{extra(c)} |")
+    w("")
 
 
 # ---- directions --------------------------------------------------------------------------
@@ -231,19 +289,17 @@ D = by("directions")
 w("#### PSF directions (paper §7.1 'PSF Directions': office scene, N = 64, m = 8, 4 cycles)")
 w("")
 w("Command: `build/propagate/propagate scenes/office.json -o OUT.vlf -l L -N 64 -m 8 -c 4 "
-  f"-t {threads} --report R.json -q`")
+  f"-t {threads} --report R.json -q` (lean: the same with `--cache-budget 0`)")
 w("")
-table_head("l")
-for c in D:
-    pm, pb = P_DIR.get(c["l"], (None, None))
-    row(str(c["l"]), c, pm, pb)
-w("")
+time_table("l", [(str(c["l"]), c, P_DIR.get(c["l"], (None, None))[0]) for c in D])
+memory_table("l", [(str(c["l"]), c, P_DIR.get(c["l"], (None, None))[1]) for c in D])
 big = [c for c in D if c["l"] >= 129]
 if len(big) >= 2:
-    w(f"Growth with l from l = 129 on (log-log slope; 1 = linear): ours time "
-      f"{slope([c['l'] for c in big], [c['t'] for c in big]):.2f}, peak RSS "
-      f"{slope([c['l'] for c in big], [c['rss'] for c in big]):.2f}, VLF est. "
-      f"{slope([c['l'] for c in big], [c['vlf'] for c in big]):.2f}; paper time "
+    ls = [c["l"] for c in big]
+    w(f"Growth with l from l = 129 on (log-log slope; 1 = linear): time fast "
+      f"{slope(ls, [c['fast']['t'] for c in big]):.2f}, lean {slope(ls, [c['lean']['t'] for c in big]):.2f}; "
+      f"peak RSS fast {slope(ls, [c['fast']['rss'] for c in big]):.2f}, lean {slope(ls, [c['lean']['rss'] for c in big]):.2f}; "
+      f"lean peak heap {slope(ls, [c['heap'] for c in big]):.2f}; paper time "
       f"{slope([129, 513, 8193], [8.5, 34, 489]):.2f}, memory {slope([129, 513, 8193], [11, 45, 733]):.2f} "
       "(129 → 8193).")
     w("")
@@ -253,26 +309,32 @@ w("")
 # ---- tiles -------------------------------------------------------------------------------
 T = by("tiles")
 tl = T[0]["l"] if T else 513
+like = tl == 513
 w(f"#### Tiles (paper Fig. 10: office scene, N = 64, n × n tiles = m = 64 … 2, l = {tl}"
-  f"{' — the paper: 513' if tl != 513 else ''}, 4 cycles)")
+  f"{' — the paper: 513' if not like else ''}, 4 cycles)")
 w("")
 w(f"Command: `build/propagate/propagate scenes/office.json -o OUT.vlf -l {tl} -N 64 -m M -c 4 "
-  f"-t {threads} --report R.json -q` and the same with `--dry-run` for the fragments per tile.")
+  f"-t {threads} --report R.json -q` (lean: `--cache-budget 0`) and the same with `--dry-run` for the "
+  "fragments per tile.")
 w("")
-table_head("tiles (m)", " | paper polygons/tile", " | ---:")
-for c in T:
-    n = c["N"] // c["m"]
-    like = c["l"] == 513
+lab = lambda c: f"{c['N'] // c['m']}×{c['N'] // c['m']} ({c['m']})"
+time_table("tiles (m)", [(lab(c), c, P_TILE_TIME.get(c["m"]) if like else None) for c in T])
+
+
+def paper_poly(c):
     pp = P_TILE_POLY.get(c["m"])
-    row(f"{n}×{n} ({c['m']})", c, P_TILE_TIME.get(c["m"]) if like else None, P_TILE_MEM.get(c["m"]) if like else None,
-        f" | {f'{pp[0]} ± {pp[1]}' if pp else '—'}")
+    return f" | {f'{pp[0]} ± {pp[1]}' if pp else '—'}"
+
+
+memory_table("tiles (m)", [(lab(c), c, P_TILE_MEM.get(c["m"]) if like else None) for c in T],
+             " | paper polygons/tile", " | ---:", paper_poly)
 if T:
-    best = min(T, key=lambda c: c["t"])
-    w("")
-    w(f"Fastest tiling: {best['N'] // best['m']}×{best['N'] // best['m']} (m = {best['m']}) at {secs(best['t'])} s "
+    bf = min(T, key=lambda c: c["fast"]["t"])
+    bl = min(T, key=lambda c: c["lean"]["t"])
+    w(f"Fastest tiling: fast {lab(bf)} at {secs(bf['fast']['t'])} s, lean {lab(bl)} at {secs(bl['lean']['t'])} s "
       "(the paper: 4×4 at 61 min, 1×1 111 min, 32×32 150 min). "
-      + ("The paper's times and memory are at l = 513, so no ratios here." if tl != 513 else ""))
-w("")
+      + ("The paper's times and memory are at l = 513, so no ratios here." if not like else ""))
+    w("")
 w("![normalised memory, time and fragments per tile against the tiling](docs/bench/paper-tiles.png)")
 w("")
 
@@ -286,45 +348,45 @@ w("Scenes: `bench/make_complexity_scene.py` → `scenes/complexity/complexity-<f
   "n = ⌈k^(1/3)⌉, cube edge half the lattice pitch — the room is fixed, so the cubes shrink as they multiply "
   "and the total area grows only about as k^(1/3) while the fragments per tile grow. Command: "
   "`build/propagate/propagate scenes/complexity/complexity-<faces>.json -o OUT.vlf -l 513 -N 64 -m 8 -c 4 "
-  f"-t {threads} --report R.json -q`")
+  f"-t {threads} --report R.json -q` (lean: `--cache-budget 0`)")
 w("")
-table_head("faces (specular)")
-for c in Pn:
-    row(f"{c['faces']} ({c['specular']})", c, None, P_POLY_MEM.get(c["faces"]))
+plab = lambda c: f"{c['faces']} ({c['specular']})"
+time_table("faces (specular)", [(plab(c), c, None) for c in Pn])
+memory_table("faces (specular)", [(plab(c), c, P_POLY_MEM.get(c["faces"])) for c in Pn])
 if len(Pn) >= 2:
     fx = [c["faces"] for c in Pn]
-    a, b = linfit(fx, [c["rss"] for c in Pn])
+    a, b = linfit(fx, [c["lean"]["rss"] for c in Pn])
+    w(f"Growth with the number of faces (log-log slope; paper: time quadratic = 2, memory linear = 1): time fast "
+      f"{slope(fx, [c['fast']['t'] for c in Pn]):.2f}, lean {slope(fx, [c['lean']['t'] for c in Pn]):.2f}, "
+      f"lean without the write {slope(fx, [c['lean']['t'] - c['lean']['write'] for c in Pn]):.2f}; "
+      f"lean peak RSS {slope(fx, [c['lean']['rss'] for c in Pn]):.2f} (linear fit {a:.0f} MiB + {b:.3f} MiB/face), "
+      f"lean peak heap {slope(fx, [c['heap'] for c in Pn]):.2f}, fast peak RSS "
+      f"{slope(fx, [c['fast']['rss'] for c in Pn]):.2f}, fragments per tile {slope(fx, [c['fpt'] for c in Pn]):.2f}. "
+      "The paper gives memory 75 MB (224 faces) → 458 MB (1736) and its times only as a plot (Fig. 9). "
+      "Our time grows more slowly than the paper's because the ray count (l · N² per cycle) is fixed and "
+      "the per-ray work depends on the fragments a ray crosses, not on the number of polygons in the scene.")
     w("")
-    w(f"Growth with the number of faces (log-log slope; paper: time quadratic = 2, memory linear): ours time "
-      f"{slope(fx, [c['t'] for c in Pn]):.2f}, time minus write {slope(fx, [c['t'] - c['write'] for c in Pn]):.2f}, "
-      f"peak RSS {slope(fx, [c['rss'] for c in Pn]):.2f} (linear fit {a:.0f} MiB + {b:.3f} MiB/face), VLF est. "
-      f"{slope(fx, [c['vlf'] for c in Pn]):.2f}, fragments per tile {slope(fx, [c['fpt'] for c in Pn]):.2f}. "
-      "The paper gives memory 75 MB (224 faces) → 458 MB (1736) and its times only as a plot (Fig. 9).")
-w("")
 w("![time and memory against the number of polygons](docs/bench/paper-polygons.png)")
 w("")
 
 # ---- Fig. 12 -----------------------------------------------------------------------------
-F = by("fig12")
+F12 = by("fig12")
 w("#### The Fig. 12 room (paper §7.2: Cornell room with mirrors, N = 128, m = 16, l = 2049: 16 h)")
 w("")
-for c in F:
+for c in F12:
     w(f"Command: `build/propagate/propagate scenes/cornell-mirrors.json -o OUT.vlf -l {c['l']} -N {c['N']} "
-      f"-m {c['m']} -c 4 -t {threads} --report R.json -q`")
+      f"-m {c['m']} -c 4 -t {threads} --report R.json -q` (lean: `--cache-budget 0`)")
     w("")
-    w("| configuration | runs | ours (s) | write (s) | paper | speed-up | peak RSS (MiB) | VLF est. (MiB) | "
-      "fragments/tile | load |")
-    w("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-    like = (c["l"], c["N"], c["m"]) == (2049, 128, 16)
-    sp = f"{P_FIG12_MIN * 60 / c['t']:,.0f}×" if like else "—"
-    w(f"| {c['faces']} faces, l = {c['l']}, N = {c['N']}, m = {c['m']} | {runs(c)} | **{secs(c['t'])}** "
-      f"| {secs(c['write'])} | {'16 h' if like else '16 h (at 2049/128/16)'} "
-      f"| {sp} | {f(c['rss'])} | {f(c['vlf'])} "
-      f"| {c['fpt']:.2f} ± {c['fpt_sd']:.2f} | {c['load']:.1f} |")
-w("")
-if any(c["runs"] < REPEAT for c in configs):
-    w("")
+    like12 = (c["l"], c["N"], c["m"]) == (2049, 128, 16)
+    lab12 = f"{c['faces']} faces, l = {c['l']}, N = {c['N']}, m = {c['m']}"
+    time_table("configuration", [(lab12, c, P_FIG12_MIN if like12 else None)])
+    memory_table("configuration", [(lab12, c, None)])
+    if not like12:
+        w("The paper's 16 h is at l = 2049, N = 128, m = 16; no ratio at this configuration.")
+        w("")
+if any(min(c["fast"]["runs"], c["lean"]["runs"]) < REPEAT for c in configs):
     w("¹ fewer runs than " + str(REPEAT) + ": its first run took over " + os.environ["LONG_S"] + " s.")
+    w("")
 
 # ---- plots -------------------------------------------------------------------------------
 term = "pngcairo size 1000,420 font 'Sans,10'"
@@ -341,7 +403,7 @@ def dat(name, rows):
 
 
 gp = []
-d1 = dat("dir", [(c["l"], c["t"], c["rss"], c["vlf"]) for c in D])
+d1 = dat("dir", [(c["l"], c["fast"]["t"], c["lean"]["t"], c["fast"]["rss"], c["lean"]["rss"], c["heap"]) for c in D])
 d2 = dat("dirp", [(l, t, m) for l, (t, m) in sorted(P_DIR.items())])
 gp.append(f"""set terminal {term}
 set output 'docs/bench/paper-directions.png'
@@ -349,21 +411,22 @@ set multiplot layout 1,2 title 'PSF directions, office scene (137 faces), N = 64
 set logscale xy; set grid; set key top left; set xlabel 'directions l'
 set ylabel 'ours: wall s'; set y2label 'paper: min (1 core, 1.7 GHz)'; set logscale y2; set y2tics; set ytics nomirror
 set title 'propagation time'
-plot '{d1}' u 1:2 w lp pt 7 t 'ours (s)', '{d2}' u 1:2 axes x1y2 w lp pt 5 dt 2 t 'paper (min, right axis)'
+plot '{d1}' u 1:2 w lp pt 7 t 'ours fast (s)', '{d1}' u 1:3 w lp pt 6 t 'ours lean (s)', '{d2}' u 1:2 axes x1y2 w lp pt 5 dt 2 t 'paper (min, right axis)'
 unset y2label; unset y2tics; set ytics mirror; set ylabel 'MiB / MB'
 set title 'memory'
-plot '{d1}' u 1:3 w lp pt 7 t 'ours peak RSS (MiB)', '{d1}' u 1:4 w lp pt 6 t 'ours VLF est. (MiB)', '{d2}' u 1:3 w lp pt 5 dt 2 t 'paper (MB)'
+plot '{d1}' u 1:4 w lp pt 7 t 'fast peak RSS (MiB)', '{d1}' u 1:5 w lp pt 6 t 'lean peak RSS (MiB)', '{d1}' u 1:6 w lp pt 4 t 'lean peak heap (MB)', '{d2}' u 1:3 w lp pt 5 dt 2 t 'paper (MB)'
 unset multiplot
 """)
 if T:
-    mt, mr, mf = max(c["t"] for c in T), max(c["rss"] for c in T), max(c["fpt"] for c in T)
+    mt, mr, mf = max(c["lean"]["t"] for c in T), max(c["lean"]["rss"] for c in T), max(c["fpt"] for c in T)
     mv = max(c["vlf"] for c in T)
-    d3 = dat("tiles", [(c["N"] // c["m"], c["t"] / mt, c["rss"] / mr, c["vlf"] / mv, c["fpt"] / mf) for c in T])
+    d3 = dat("tiles", [(c["N"] // c["m"], c["lean"]["t"] / mt, c["lean"]["rss"] / mr, c["vlf"] / mv, c["fpt"] / mf)
+                       for c in T])
     d4 = dat("tilesp", [(64 // m, P_TILE_TIME[m] / 150, P_TILE_MEM[m] / 937 if m in P_TILE_MEM else "NaN",
                          P_TILE_POLY[m][0] / 121 if m in P_TILE_POLY else "NaN") for m in (64, 16, 2)])
     gp.append(f"""set terminal {term}
 set output 'docs/bench/paper-tiles.png'
-set title 'Tiling of a 64x64 PSF, office scene, l = {tl}, 4 cycles, normalised to each series maximum{tag}'
+set title 'Tiling of a 64x64 PSF, office scene, l = {tl}, 4 cycles, lean mode, normalised to each series maximum{tag}'
 set logscale x 2; set grid; set key outside right; set xlabel 'tiles per PSF side n (n x n tiles, m = 64/n)'
 set ylabel 'normalised (0-1)'; set yrange [0:1.05]; set xtics ('1' 1, '2' 2, '4' 4, '8' 8, '16' 16, '32' 32)
 plot '{d3}' u 1:2 w lp pt 7 lc 1 t 'ours time', '{d3}' u 1:3 w lp pt 7 lc 2 t 'ours peak RSS', \\
@@ -372,16 +435,17 @@ plot '{d3}' u 1:2 w lp pt 7 lc 1 t 'ours time', '{d3}' u 1:3 w lp pt 7 lc 2 t 'o
      '{d4}' u 1:4 w p pt 5 ps 1.5 lc 3 t 'paper polygons/tile'
 """)
 if Pn:
-    d5 = dat("poly", [(c["faces"], c["t"], c["rss"], c["vlf"], c["t"] - c["write"]) for c in Pn])
+    d5 = dat("poly", [(c["faces"], c["fast"]["t"], c["lean"]["t"], c["fast"]["rss"], c["lean"]["rss"], c["heap"])
+                      for c in Pn])
     d6 = dat("polyp", sorted(P_POLY_MEM.items()))
     gp.append(f"""set terminal {term}
 set output 'docs/bench/paper-polygons.png'
 set multiplot layout 1,2 title 'Complexity scenes (1 emitter, diffuse:specular 5:1), l = 513, N = 64, m = 8, 4 cycles{tag}'
-set grid; set key bottom right; set xlabel 'faces'; set xrange [0:1900]
+set grid; set key top left; set xlabel 'faces'; set xrange [0:1900]
 set title 'propagation time (paper: quadratic)'; set ylabel 'wall s'; set yrange [0:*]
-plot '{d5}' u 1:2 w lp pt 7 t 'ours total', '{d5}' u 1:5 w lp pt 6 t 'ours without writing the bake'
+plot '{d5}' u 1:2 w lp pt 7 t 'ours fast', '{d5}' u 1:3 w lp pt 6 t 'ours lean'
 set title 'memory (paper: linear, 75 -> 458 MB)'; set ylabel 'MiB / MB'
-plot '{d5}' u 1:3 w lp pt 7 t 'ours peak RSS (MiB)', '{d5}' u 1:4 w lp pt 6 t 'ours VLF est. (MiB)', '{d6}' u 1:2 w lp pt 5 dt 2 t 'paper (MB)'
+plot '{d5}' u 1:4 w lp pt 7 t 'fast peak RSS (MiB)', '{d5}' u 1:5 w lp pt 6 t 'lean peak RSS (MiB)', '{d5}' u 1:6 w lp pt 4 t 'lean peak heap (MB)', '{d6}' u 1:2 w lp pt 5 dt 2 t 'paper (MB)'
 unset multiplot
 """)
 for i, g in enumerate(gp):
