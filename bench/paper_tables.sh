@@ -54,6 +54,7 @@ grep -q '<!-- paper-tables:begin -->' BENCHMARKS.md && grep -q '<!-- paper-table
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 start=$(date +%s)
+commit=$(git describe --always --dirty 2> /dev/null || echo unknown)  # the tree the runs used
 load_start=$(cut -d' ' -f1-3 /proc/loadavg)
 log() { printf '[paper-tables %s +%ds] %s\n' "$(date +%H:%M:%S)" $(($(date +%s) - start)) "$*" >&2; }
 total_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["timings_s"]["total"])' "$1"; }
@@ -116,7 +117,7 @@ log "runs done in ${elapsed} s; writing tables and plots"
 mkdir -p docs/bench
 QUICK=$quick WORK=$work ELAPSED=$elapsed LOAD_START="$load_start" LOAD_END="$(cut -d' ' -f1-3 /proc/loadavg)" \
 THREADS=$threads REPEAT=$repeat LONG_S=$long_s BUILD=$build \
-COMMIT="$(git describe --always --dirty 2> /dev/null || echo unknown)" \
+COMMIT="$commit" \
 python3 - << 'PY'
 import glob, json, math, os, re, statistics, subprocess, time
 

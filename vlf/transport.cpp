@@ -69,17 +69,17 @@ struct DirectionGeometry {
     std::vector<uint32_t> ov_begin;    // slots + 1, into ov
     std::vector<TexelOverlap> ov;
     std::vector<int32_t> partner;      // per slot: partner slot, kEscaped or kBlocked
+    // Bytes of an exact-size copy (what the cache holds).
     int64_t bytes() const {
         int64_t b = static_cast<int64_t>(sizeof(DirectionGeometry));
         for (const Tile& t : psf.tiles)
-            b += static_cast<int64_t>(sizeof(Tile) + t.fragments.capacity() * sizeof(Fragment) +
-                                      t.spans.capacity() * sizeof(Span));
-        b += static_cast<int64_t>((tile_base.capacity() + face_begin.capacity() +
-                                   ov_begin.capacity()) * sizeof(uint32_t) +
-                                  frags.capacity() * sizeof(frags[0]) +
-                                  ov.capacity() * sizeof(TexelOverlap) +
-                                  partner.capacity() * sizeof(int32_t) +
-                                  psf.tile_of.capacity() * sizeof(int32_t));
+            b += static_cast<int64_t>(sizeof(Tile) + t.fragments.size() * sizeof(Fragment) +
+                                      t.spans.size() * sizeof(Span));
+        b += static_cast<int64_t>((tile_base.size() + face_begin.size() + ov_begin.size()) *
+                                      sizeof(uint32_t) +
+                                  frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
+                                  partner.size() * sizeof(int32_t) +
+                                  psf.tile_of.size() * sizeof(int32_t));
         return b;
     }
 };
@@ -414,9 +414,12 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                                res.clipping, res.exchange);
                 gp = w.local.get();
                 if (cache != nullptr && budget > 0) {
+                    // Kept as an exact-size copy: the scratch keeps its grown capacity for
+                    // the next direction, and the cache holds no slack.
                     const int64_t b = w.local->bytes();
                     if (m_cache_used.fetch_add(b) + b <= budget) {
-                        (*cache)[d] = std::move(w.local);
+                        (*cache)[d] = std::make_unique<Geometry>(*w.local);
+                        gp = (*cache)[d].get();
                     } else {
                         m_cache_used.fetch_sub(b);
                     }
