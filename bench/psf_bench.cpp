@@ -60,4 +60,27 @@ void BM_ExchangePsf(benchmark::State& state) {
 }
 BENCHMARK(BM_ExchangePsf)->Args({64, 8})->Args({128, 16})->Unit(benchmark::kMicrosecond);
 
+// One tile's exchange buffer (VLF §4.1: for every fragment and covered ray, the facing
+// fragment along the ray): the tile with the most fragments of one PSF of the office scene
+// (137 faces), N = 64, m = arg0. Counters: fragments and covered rays of that tile.
+void BM_ExchangeTile(benchmark::State& state) {
+    static const vlf::Scene office =
+        vlf::load_scene(std::string(VLF_SOURCE_DIR) + "/scenes/office.json");
+    const int m = static_cast<int>(state.range(0));
+    const vlf::Psf psf =
+        vlf::rasterise_psf(office, glm::normalize(vlf::Vec3(0.3, 0.5, 0.8)), 0, 64, m);
+    const vlf::Tile* busiest = &psf.tiles.front();
+    for (const vlf::Tile& t : psf.tiles)
+        if (t.fragments.size() > busiest->fragments.size()) busiest = &t;
+    vlf::TileExchange x;
+    vlf::ExchangeScratch scratch;
+    for (auto _ : state) {
+        vlf::build_exchange(office, psf, *busiest, x, scratch);
+        benchmark::DoNotOptimize(x.partner.data());
+    }
+    state.counters["fragments"] = static_cast<double>(busiest->fragments.size());
+    state.counters["rays"] = static_cast<double>(busiest->covered);
+}
+BENCHMARK(BM_ExchangeTile)->Arg(8)->Arg(16)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
