@@ -90,6 +90,13 @@ int run(const Options& o) {
     if (!o.report.empty()) vlf::write_json_atomically(o.report, report);
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
+    if (!o.quiet)
+        std::printf("memory     peak %.1f MiB; geometry cache %.1f MiB for %d of %d directions "
+                    "(--cache-budget %lld)\n",
+                    double(vlf::peak_rss_bytes()) / (1 << 20),
+                    double(run.transport->geometry_cache_bytes()) / (1 << 20),
+                    run.transport->cached_directions(), run.transport->directions().size(),
+                    static_cast<long long>(p.cache_budget_mib));
     if (!o.report.empty()) std::printf("report     %s\n", o.report.c_str());
     return 0;
 }
