@@ -396,274 +396,274 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
     std::vector<ChunkResult> chunks(kWave);
     std::vector<SpecularSource> sources;
     for (int wave = 0; wave < kChunks; wave += kWave) {
-    parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
-        ChunkResult& res = chunks[c - wave];
-        res = ChunkResult{};
-        res.next.assign(m_tex.texels(), Rgb(0.0));
-        Scratch w;
-        const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
-        for (int d = d0; d < d1; ++d) {
-            if (m_progress != nullptr) m_progress->advance();
-            const Mat3& rot = rotations[d];
-            const Geometry* gp = nullptr;
-            if (cache != nullptr && (*cache)[d]) {
-                gp = (*cache)[d].get();
-            } else {
-                if (!w.local) w.local = std::make_unique<Geometry>();
-                build_geometry(inputs, rot, d, N, m, *w.local, w.x, w.xs, res.rasterise,
-                               res.clipping, res.exchange);
-                gp = w.local.get();
-                if (cache != nullptr && budget > 0) {
-                    // Kept as an exact-size copy: the scratch keeps its grown capacity for
-                    // the next direction, and the cache holds no slack.
-                    const int64_t b = w.local->bytes();
-                    if (m_cache_used.fetch_add(b) + b <= budget) {
-                        (*cache)[d] = std::make_unique<Geometry>(*w.local);
-                        gp = (*cache)[d].get();
-                    } else {
-                        m_cache_used.fetch_sub(b);
-                    }
-                }
-            }
-            const Geometry& g = *gp;
-            const Psf& psf = g.psf;
-            const Vec3 omega = psf.omega;
-            const double beam = ray_area * m_dirs.solid_angle(d);  // a * Delta_d
-            const uint32_t S = g.tile_base.back();
-            w.out.assign(S, Rgb(0.0));
-            w.in.assign(S, Rgb(0.0));
-            auto t0 = Clock::now();
-
-            // 2. Senders load their rays.
-            t0 = Clock::now();
-            for (size_t f = 0; f < nf; ++f) {
-                const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
-                const Face& face = scene.faces[f];
-                const bool spec_store = true_directions && m_spec.stores(int(f));
-                const bool other_store = true_directions && m_other.stores(int(f));
-                if (fb == fe) {
-                    // A sliver with rays on the N x N grid but none on the finer exchange
-                    // grid: its unshot specular light cannot leave; the ledger absorbs it.
-                    if (spec_store && m_coverage[size_t(d) * nf + f] > 0) {
-                        const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
-                        const uint64_t mb = m_spec.begin(d, int(f));
-                        for (uint64_t k = 0; k < m_spec.count(d, int(f)); ++k)
-                            res.absorbed += Rgb(m_spec.unshot[mb + k]) * beam_c;
-                    }
-                    continue;
-                }
-                if (sends[f]) {
-                    const double nz = std::abs((rot * face.normal).z);
-                    const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
-                    const size_t tb = m_tex.begin(int(f)), tc = m_tex.count(int(f));
-                    w.colsum.assign(tc, 0.0);
-                    uint32_t rays = 0;
-                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                        for (uint32_t k = 0; k < fr.covered; ++k)
-                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
-                                w.colsum[g.ov[o].texel] += g.ov[o].area;
-                        rays += fr.covered;
-                    });
-                    // Texels whose beams miss every covered ray here (slivers at the rim)
-                    // still send their share: spread evenly over the face's rays.
-                    Rgb orphan(0.0);
-                    for (size_t t = 0; t < tc; ++t)
-                        if (w.colsum[t] <= 0.0) orphan += m_tex.current[tb + t];
-                    const Rgb even = orphan * (wd / rays);
-                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                        for (uint32_t k = 0; k < fr.covered; ++k) {
-                            Rgb p = even;
-                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o) {
-                                const TexelOverlap& ov = g.ov[o];
-                                p += m_tex.current[tb + ov.texel] * (wd * ov.area / w.colsum[ov.texel]);
-                            }
-                            w.out[base + k] += p;
-                        }
-                    });
-                }
-                if ((spec_store || other_store) && s == 1) {
-                    RadianceMaps& maps = spec_store ? m_spec : m_other;
-                    const uint64_t mb = maps.begin(d, int(f));
-                    VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
-                    uint64_t kl = 0;
-                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                        for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
-                            Rgb& o = w.out[base + k];
-                            if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
-                            maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
-                        }
-                    });
-                } else if (spec_store || other_store) {
-                    // Super-sampled: each fine ray takes L_U of its N x N parent ray; the
-                    // face's unshot power in this direction is rescaled to be sent whole.
-                    // L_T of a parent is the mean radiance of its fine rays on the face.
-                    RadianceMaps& maps = spec_store ? m_spec : m_other;
-                    const uint64_t mb = maps.begin(d, int(f));
-                    rasterise_face(face, rot, Nc, mc, w.coarse);
-                    VLF_CHECK(maps.count(d, int(f)) == w.coarse.covered);
-                    int ci0 = Nc, cj0 = Nc, ci1 = -1, cj1 = -1;
-                    for (const FaceFragment& ff : w.coarse.fragments) {
-                        ci0 = std::min(ci0, ff.s * mc);
-                        ci1 = std::max(ci1, ff.s * mc + mc - 1);
-                        cj0 = std::min(cj0, ff.t * mc + ff.row_begin);
-                        cj1 = std::max(cj1, ff.t * mc + ff.row_begin + ff.rows - 1);
-                    }
-                    const int cw = ci1 - ci0 + 1;
-                    w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1), -1);
-                    for (const FaceFragment& ff : w.coarse.fragments)
-                        w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int k0) {
-                            static_cast<void>(k0);
-                            w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = 0;
-                        });
-                    {  // local indices in face-local order
-                        int32_t k = 0;
-                        for (const FaceFragment& ff : w.coarse.fragments)
-                            w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = k++;
-                            });
-                    }
-                    auto parent_of = [&](int i, int j) -> int32_t {
-                        const int ci = i / s - ci0, cj = j / s - cj0;
-                        if (ci < 0 || cj < 0 || ci >= cw || cj > cj1 - cj0) return -1;
-                        return w.coarse_index[size_t(cj) * cw + ci];
-                    };
-                    const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
-                    Rgb scale(0.0);
-                    if (spec_store) {
-                        Rgb unshot(0.0), reach(0.0);
-                        for (uint64_t k = 0; k < w.coarse.covered; ++k)
-                            unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
-                                const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
-                                if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
-                            });
-                        });
-                        for (int c = 0; c < 3; ++c) {
-                            if (reach[c] > 0.0) scale[c] = unshot[c] / reach[c];
-                            else res.absorbed[c] += unshot[c];  // no fine ray carries it
-                        }
-                    }
-                    w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
-                    w.parent_count.assign(w.coarse.covered, 0);
-                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                            const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
-                            Rgb& o = w.out[base + k];
-                            if (pk < 0) return;
-                            if (spec_store) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
-                            w.parent_sum[pk] += o / beam;
-                            ++w.parent_count[pk];
-                        });
-                    });
-                    for (uint64_t k = 0; k < w.coarse.covered; ++k)
-                        if (w.parent_count[k] > 0)
-                            maps.total[mb + k] += RgbF(w.parent_sum[k] / double(w.parent_count[k]));
-                }
-            }
-
-            // 3. Exchange along every ray (§4.1 lines 5-8).
-            for (uint32_t slot = 0; slot < S; ++slot) {
-                const int32_t p = g.partner[slot];
-                if (p >= 0) {
-                    w.in[slot] = w.out[p];
-                } else if (p == kEscaped) {
-                    res.escaped += w.out[slot];
+        parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
+            ChunkResult& res = chunks[c - wave];
+            res = ChunkResult{};
+            res.next.assign(m_tex.texels(), Rgb(0.0));
+            Scratch w;
+            const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
+            for (int d = d0; d < d1; ++d) {
+                if (m_progress != nullptr) m_progress->advance();
+                const Mat3& rot = rotations[d];
+                const Geometry* gp = nullptr;
+                if (cache != nullptr && (*cache)[d]) {
+                    gp = (*cache)[d].get();
                 } else {
-                    res.absorbed += w.out[slot];  // onto a back face
-                }
-            }
-            res.exchange += since(t0);
-
-            // 4. Receivers.
-            t0 = Clock::now();
-            for (size_t f = 0; f < nf; ++f) {
-                const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
-                if (fb == fe) continue;
-                const Face& face = scene.faces[f];
-                const Material& mat = scene.material_of(face);
-                Rgb received(0.0);
-                int imin = N, imax = -1, jmin = N, jmax = -1;
-                for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                    for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
-                    imin = std::min(imin, tile.s * m);
-                    imax = std::max(imax, tile.s * m + m - 1);
-                    jmin = std::min(jmin, tile.t * m + fr.row_begin);
-                    jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
-                });
-                if (received.x <= 0 && received.y <= 0 && received.z <= 0) continue;
-                res.absorbed += received * (Rgb(1.0) - mat.diffuse - mat.specular);
-                if (mat.is_diffuse()) {
-                    // The temporary radiance tile onto P^N (§4.2): each beam's power
-                    // over the texels its footprint overlaps, by overlap area.
-                    const size_t tb = m_tex.begin(int(f));
-                    for (uint32_t q = fb; q < fe; ++q) {
-                        const auto [ti, fi] = g.frags[q];
-                        const Fragment& fr = psf.tiles[ti].fragments[fi];
-                        const uint32_t base = g.tile_base[ti] + fr.ray_offset;
-                        for (uint32_t k = 0; k < fr.covered; ++k) {
-                            const Rgb p = w.in[base + k] * mat.diffuse;
-                            if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
-                            double rowsum = 0.0;
-                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
-                                rowsum += g.ov[o].area;
-                            if (rowsum <= 0.0) {
-                                res.absorbed += p;  // degenerate footprint
-                                continue;
-                            }
-                            for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
-                                res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
+                    if (!w.local) w.local = std::make_unique<Geometry>();
+                    build_geometry(inputs, rot, d, N, m, *w.local, w.x, w.xs, res.rasterise,
+                                   res.clipping, res.exchange);
+                    gp = w.local.get();
+                    if (cache != nullptr && budget > 0) {
+                        // Kept as an exact-size copy: the scratch keeps its grown capacity for
+                        // the next direction, and the cache holds no slack.
+                        const int64_t b = w.local->bytes();
+                        if (m_cache_used.fetch_add(b) + b <= budget) {
+                            (*cache)[d] = std::make_unique<Geometry>(*w.local);
+                            gp = (*cache)[d].get();
+                        } else {
+                            m_cache_used.fetch_sub(b);
                         }
                     }
                 }
-                if (mat.is_specular()) {
-                    SpecularSource src;
-                    src.face = int(f);
-                    src.rotation = rot;
-                    src.resolution = N;
-                    src.power = received * mat.specular;
-                    const int facing = (rot * face.normal).z > 0 ? 1 : -1;
-                    const Vec3 incoming = omega * double(-facing);  // light travels towards the face
-                    src.targets = specular_targets(m_dirs, face, incoming, m_coverage, nf,
-                                                   src.target_direction, src.target_weight);
-                    if (src.targets == 0) {
-                        res.absorbed += src.power;  // grazing: no PSF can carry it
+                const Geometry& g = *gp;
+                const Psf& psf = g.psf;
+                const Vec3 omega = psf.omega;
+                const double beam = ray_area * m_dirs.solid_angle(d);  // a * Delta_d
+                const uint32_t S = g.tile_base.back();
+                w.out.assign(S, Rgb(0.0));
+                w.in.assign(S, Rgb(0.0));
+                auto t0 = Clock::now();
+
+                // 2. Senders load their rays.
+                t0 = Clock::now();
+                for (size_t f = 0; f < nf; ++f) {
+                    const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
+                    const Face& face = scene.faces[f];
+                    const bool spec_store = true_directions && m_spec.stores(int(f));
+                    const bool other_store = true_directions && m_other.stores(int(f));
+                    if (fb == fe) {
+                        // A sliver with rays on the N x N grid but none on the finer exchange
+                        // grid: its unshot specular light cannot leave; the ledger absorbs it.
+                        if (spec_store && m_coverage[size_t(d) * nf + f] > 0) {
+                            const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
+                            const uint64_t mb = m_spec.begin(d, int(f));
+                            for (uint64_t k = 0; k < m_spec.count(d, int(f)); ++k)
+                                res.absorbed += Rgb(m_spec.unshot[mb + k]) * beam_c;
+                        }
                         continue;
                     }
-                    src.i0 = imin;
-                    src.j0 = jmin;
-                    src.width = imax - imin + 1;
-                    src.height = jmax - jmin + 1;
-                    src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
-                    src.covered.assign(size_t(src.width) * src.height, 0);
-                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                            const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
-                                              (tile.s * m + u - src.i0);
-                            src.radiance[at] = RgbF(w.in[base + k] / beam);
-                            src.covered[at] = 1;
+                    if (sends[f]) {
+                        const double nz = std::abs((rot * face.normal).z);
+                        const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
+                        const size_t tb = m_tex.begin(int(f)), tc = m_tex.count(int(f));
+                        w.colsum.assign(tc, 0.0);
+                        uint32_t rays = 0;
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            for (uint32_t k = 0; k < fr.covered; ++k)
+                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                    w.colsum[g.ov[o].texel] += g.ov[o].area;
+                            rays += fr.covered;
                         });
-                    });
-                    res.sources.push_back(std::move(src));
+                        // Texels whose beams miss every covered ray here (slivers at the rim)
+                        // still send their share: spread evenly over the face's rays.
+                        Rgb orphan(0.0);
+                        for (size_t t = 0; t < tc; ++t)
+                            if (w.colsum[t] <= 0.0) orphan += m_tex.current[tb + t];
+                        const Rgb even = orphan * (wd / rays);
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            for (uint32_t k = 0; k < fr.covered; ++k) {
+                                Rgb p = even;
+                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o) {
+                                    const TexelOverlap& ov = g.ov[o];
+                                    p += m_tex.current[tb + ov.texel] * (wd * ov.area / w.colsum[ov.texel]);
+                                }
+                                w.out[base + k] += p;
+                            }
+                        });
+                    }
+                    if ((spec_store || other_store) && s == 1) {
+                        RadianceMaps& maps = spec_store ? m_spec : m_other;
+                        const uint64_t mb = maps.begin(d, int(f));
+                        VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
+                        uint64_t kl = 0;
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
+                                Rgb& o = w.out[base + k];
+                                if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
+                                maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
+                            }
+                        });
+                    } else if (spec_store || other_store) {
+                        // Super-sampled: each fine ray takes L_U of its N x N parent ray; the
+                        // face's unshot power in this direction is rescaled to be sent whole.
+                        // L_T of a parent is the mean radiance of its fine rays on the face.
+                        RadianceMaps& maps = spec_store ? m_spec : m_other;
+                        const uint64_t mb = maps.begin(d, int(f));
+                        rasterise_face(face, rot, Nc, mc, w.coarse);
+                        VLF_CHECK(maps.count(d, int(f)) == w.coarse.covered);
+                        int ci0 = Nc, cj0 = Nc, ci1 = -1, cj1 = -1;
+                        for (const FaceFragment& ff : w.coarse.fragments) {
+                            ci0 = std::min(ci0, ff.s * mc);
+                            ci1 = std::max(ci1, ff.s * mc + mc - 1);
+                            cj0 = std::min(cj0, ff.t * mc + ff.row_begin);
+                            cj1 = std::max(cj1, ff.t * mc + ff.row_begin + ff.rows - 1);
+                        }
+                        const int cw = ci1 - ci0 + 1;
+                        w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1), -1);
+                        for (const FaceFragment& ff : w.coarse.fragments)
+                            w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int k0) {
+                                static_cast<void>(k0);
+                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = 0;
+                            });
+                        {  // local indices in face-local order
+                            int32_t k = 0;
+                            for (const FaceFragment& ff : w.coarse.fragments)
+                                w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int) {
+                                    w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = k++;
+                                });
+                        }
+                        auto parent_of = [&](int i, int j) -> int32_t {
+                            const int ci = i / s - ci0, cj = j / s - cj0;
+                            if (ci < 0 || cj < 0 || ci >= cw || cj > cj1 - cj0) return -1;
+                            return w.coarse_index[size_t(cj) * cw + ci];
+                        };
+                        const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
+                        Rgb scale(0.0);
+                        if (spec_store) {
+                            Rgb unshot(0.0), reach(0.0);
+                            for (uint64_t k = 0; k < w.coarse.covered; ++k)
+                                unshot += Rgb(maps.unshot[mb + k]) * beam_c;
+                            for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
+                                    const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
+                                    if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
+                                });
+                            });
+                            for (int c = 0; c < 3; ++c) {
+                                if (reach[c] > 0.0) scale[c] = unshot[c] / reach[c];
+                                else res.absorbed[c] += unshot[c];  // no fine ray carries it
+                            }
+                        }
+                        w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
+                        w.parent_count.assign(w.coarse.covered, 0);
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                                const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
+                                Rgb& o = w.out[base + k];
+                                if (pk < 0) return;
+                                if (spec_store) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
+                                w.parent_sum[pk] += o / beam;
+                                ++w.parent_count[pk];
+                            });
+                        });
+                        for (uint64_t k = 0; k < w.coarse.covered; ++k)
+                            if (w.parent_count[k] > 0)
+                                maps.total[mb + k] += RgbF(w.parent_sum[k] / double(w.parent_count[k]));
+                    }
                 }
-            }
-            res.exchange += since(t0);
-        }
-    });
 
-    // Reductions, in chunk order.
-    const int in_wave = std::min(kWave, kChunks - wave);
-    for (int k = 0; k < in_wave; ++k) {
-        ChunkResult& c = chunks[k];
-        for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
-        m_running.absorbed += c.absorbed;
-        m_running.escaped += c.escaped;
-        m_timings.rasterise += c.rasterise;
-        m_timings.clipping += c.clipping;
-        m_timings.exchange += c.exchange;
-        for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
-        c = ChunkResult{};
-    }
+                // 3. Exchange along every ray (§4.1 lines 5-8).
+                for (uint32_t slot = 0; slot < S; ++slot) {
+                    const int32_t p = g.partner[slot];
+                    if (p >= 0) {
+                        w.in[slot] = w.out[p];
+                    } else if (p == kEscaped) {
+                        res.escaped += w.out[slot];
+                    } else {
+                        res.absorbed += w.out[slot];  // onto a back face
+                    }
+                }
+                res.exchange += since(t0);
+
+                // 4. Receivers.
+                t0 = Clock::now();
+                for (size_t f = 0; f < nf; ++f) {
+                    const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
+                    if (fb == fe) continue;
+                    const Face& face = scene.faces[f];
+                    const Material& mat = scene.material_of(face);
+                    Rgb received(0.0);
+                    int imin = N, imax = -1, jmin = N, jmax = -1;
+                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                        for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
+                        imin = std::min(imin, tile.s * m);
+                        imax = std::max(imax, tile.s * m + m - 1);
+                        jmin = std::min(jmin, tile.t * m + fr.row_begin);
+                        jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
+                    });
+                    if (received.x <= 0 && received.y <= 0 && received.z <= 0) continue;
+                    res.absorbed += received * (Rgb(1.0) - mat.diffuse - mat.specular);
+                    if (mat.is_diffuse()) {
+                        // The temporary radiance tile onto P^N (§4.2): each beam's power
+                        // over the texels its footprint overlaps, by overlap area.
+                        const size_t tb = m_tex.begin(int(f));
+                        for (uint32_t q = fb; q < fe; ++q) {
+                            const auto [ti, fi] = g.frags[q];
+                            const Fragment& fr = psf.tiles[ti].fragments[fi];
+                            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+                            for (uint32_t k = 0; k < fr.covered; ++k) {
+                                const Rgb p = w.in[base + k] * mat.diffuse;
+                                if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
+                                double rowsum = 0.0;
+                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                    rowsum += g.ov[o].area;
+                                if (rowsum <= 0.0) {
+                                    res.absorbed += p;  // degenerate footprint
+                                    continue;
+                                }
+                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                    res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
+                            }
+                        }
+                    }
+                    if (mat.is_specular()) {
+                        SpecularSource src;
+                        src.face = int(f);
+                        src.rotation = rot;
+                        src.resolution = N;
+                        src.power = received * mat.specular;
+                        const int facing = (rot * face.normal).z > 0 ? 1 : -1;
+                        const Vec3 incoming = omega * double(-facing);  // light travels towards the face
+                        src.targets = specular_targets(m_dirs, face, incoming, m_coverage, nf,
+                                                       src.target_direction, src.target_weight);
+                        if (src.targets == 0) {
+                            res.absorbed += src.power;  // grazing: no PSF can carry it
+                            continue;
+                        }
+                        src.i0 = imin;
+                        src.j0 = jmin;
+                        src.width = imax - imin + 1;
+                        src.height = jmax - jmin + 1;
+                        src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
+                        src.covered.assign(size_t(src.width) * src.height, 0);
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                                const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
+                                                  (tile.s * m + u - src.i0);
+                                src.radiance[at] = RgbF(w.in[base + k] / beam);
+                                src.covered[at] = 1;
+                            });
+                        });
+                        res.sources.push_back(std::move(src));
+                    }
+                }
+                res.exchange += since(t0);
+            }
+        });
+
+        // Reductions, in chunk order.
+        const int in_wave = std::min(kWave, kChunks - wave);
+        for (int k = 0; k < in_wave; ++k) {
+            ChunkResult& c = chunks[k];
+            for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
+            m_running.absorbed += c.absorbed;
+            m_running.escaped += c.escaped;
+            m_timings.rasterise += c.rasterise;
+            m_timings.clipping += c.clipping;
+            m_timings.exchange += c.exchange;
+            for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
+            c = ChunkResult{};
+        }
     }
     const auto t0 = Clock::now();
     if (!sources.empty())
