@@ -39,7 +39,7 @@ double luminance(const Rgb& c) { return (c.x + c.y + c.z) / 3.0; }
 struct Scratch {
     std::vector<Rgb> out, in;
     std::vector<double> colsum;
-    std::unique_ptr<DirectionGeometry> local;  // a direction's geometry when not cached
+    std::unique_ptr<DirectionGeometry> local;  // where a direction's geometry is built
     TileExchange x;
     ExchangeScratch xs;
     FaceRaster coarse;                 // super-sampling: the face on the N x N grid
@@ -662,7 +662,6 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
             m_timings.clipping += c.clipping;
             m_timings.exchange += c.exchange;
             for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
-            c = ChunkResult{};
         }
     }
     const auto t0 = Clock::now();
