@@ -25,80 +25,91 @@ PsfToTexel psf_to_texel(const Face& face, const Mat3& rotation) {
 
 namespace {
 
-constexpr int kMaxPoly = 12;
-
-struct Poly {
-    Vec2 v[kMaxPoly];
+// A convex polygon of at most Cap vertices, on the stack: the common case (a beam's
+// parallelogram cut by at most a few polygon edges, then by grid lines).
+template <int Cap>
+struct SmallPoly {
+    Vec2 v[Cap];
     int n = 0;
+    void clear() { n = 0; }
+    void push(const Vec2& p) { v[n++] = p; }
+    int size() const { return n; }
+    const Vec2& operator[](int k) const { return v[k]; }
+};
+
+// The same on the heap, for footprints cut by many polygon edges (a small face of many
+// vertices under a large beam).
+struct BigPoly {
+    std::vector<Vec2> v;
+    void clear() { v.clear(); }
+    void push(const Vec2& p) { v.push_back(p); }
+    int size() const { return static_cast<int>(v.size()); }
+    const Vec2& operator[](int k) const { return v[k]; }
 };
 
 // Splits a convex polygon by the line coord_axis = c into the part below (<= c) and the
 // part above (>= c), in one Sutherland–Hodgman pass that shares the crossing points, so
 // the two parts tile the polygon exactly.
-template <int axis>
-inline void split(const Poly& in, double c, Poly& below, Poly& above) {
-    below.n = above.n = 0;
-    if (in.n == 0) return;
-    const Vec2* a = &in.v[in.n - 1];
+template <int axis, class P>
+inline void split(const P& in, double c, P& below, P& above) {
+    below.clear();
+    above.clear();
+    if (in.size() == 0) return;
+    const Vec2* a = &in[in.size() - 1];
     double da = (*a)[axis] - c;
-    for (int k = 0; k < in.n; ++k) {
-        const Vec2& b = in.v[k];
+    for (int k = 0; k < in.size(); ++k) {
+        const Vec2& b = in[k];
         const double db = b[axis] - c;
         if ((da < 0) != (db < 0) && da != 0 && db != 0) {
             const Vec2 x = *a + (b - *a) * (da / (da - db));
-            below.v[below.n++] = x;
-            above.v[above.n++] = x;
+            below.push(x);
+            above.push(x);
         }
-        if (db <= 0) below.v[below.n++] = b;
-        if (db >= 0) above.v[above.n++] = b;
+        if (db <= 0) below.push(b);
+        if (db >= 0) above.push(b);
         a = &b;
         da = db;
     }
 }
 
-inline double area(const Poly& p) {
+template <class P>
+inline double area(const P& p) {
     double s = 0.0;
-    const Vec2* a = &p.v[p.n - 1];
-    for (int k = 0; k < p.n; ++k) {
-        const Vec2& b = p.v[k];
+    const Vec2* a = &p[p.size() - 1];
+    for (int k = 0; k < p.size(); ++k) {
+        const Vec2& b = p[k];
         s += a->x * b.y - a->y * b.x;
         a = &b;
     }
     return 0.5 * std::abs(s);
 }
 
-}  // namespace
-
-int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<TexelOverlap>& out) {
-    // The outermost columns and rows reach to infinity: the part of a beam that spills over
-    // the grid's rim lands on the rim texel, next to where it fell (like the gap a missing
-    // neighbouring beam leaves there), rather than being spread over the whole footprint.
-    double umin = quad[0].x, umax = quad[0].x, vmin = quad[0].y, vmax = quad[0].y;
-    for (int k = 1; k < 4; ++k) {
-        umin = std::min(umin, quad[k].x);
-        umax = std::max(umax, quad[k].x);
-        vmin = std::min(vmin, quad[k].y);
-        vmax = std::max(vmax, quad[k].y);
+// Slices a convex polygon into the cells of the grid (rim cells unbounded outwards).
+template <class P>
+void slice_to_grid(const P& poly, int width, int height, std::vector<TexelOverlap>& out) {
+    if (poly.size() < 3) return;
+    double umin = poly[0].x, umax = poly[0].x, vmin = poly[0].y, vmax = poly[0].y;
+    for (int k = 1; k < poly.size(); ++k) {
+        umin = std::min(umin, poly[k].x);
+        umax = std::max(umax, poly[k].x);
+        vmin = std::min(vmin, poly[k].y);
+        vmax = std::max(vmax, poly[k].y);
     }
     const int i0 = std::clamp(static_cast<int>(std::floor(umin)), 0, width - 1);
     const int i1 = std::clamp(static_cast<int>(std::floor(umax)), 0, width - 1);
     const int j0 = std::clamp(static_cast<int>(std::floor(vmin)), 0, height - 1);
     const int j1 = std::clamp(static_cast<int>(std::floor(vmax)), 0, height - 1);
-    const size_t before = out.size();
-    Poly quadp;
-    quadp.n = 4;
-    for (int k = 0; k < 4; ++k) quadp.v[k] = quad[k];
-    // Whole quad inside one cell: its area, no clipping (the common case when texels are
-    // larger than the beam).
+    // Whole polygon inside one cell: its area, no clipping (the common case when texels
+    // are larger than the beam).
     if (i0 == i1 && j0 == j1) {
-        const double a = area(quadp);
+        const double a = area(poly);
         if (a > 0) out.push_back({static_cast<uint32_t>(j0 * width + i0), static_cast<float>(a)});
-        return static_cast<int>(out.size() - before);
+        return;
     }
     // Slice column by column, then each column row by row: every cut is made once and
     // its crossing points are shared by both sides. The last column (row) of the range
     // keeps the remainder, which is also what makes the rim cells reach outwards.
-    Poly rest = quadp, col, next, cell, rrest, rnext;
+    P rest = poly, col, next, cell, rrest, rnext;
     for (int i = i0; i <= i1; ++i) {
         if (i < i1) {
             split<0>(rest, double(i + 1), col, next);
@@ -106,7 +117,7 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
         } else {
             col = rest;
         }
-        if (col.n < 3) continue;
+        if (col.size() < 3) continue;
         rrest = col;
         for (int j = j0; j <= j1; ++j) {
             if (j < j1) {
@@ -115,22 +126,141 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
             } else {
                 cell = rrest;
             }
-            if (cell.n < 3) continue;
+            if (cell.size() < 3) continue;
             const double a = area(cell);
             if (a > 0) out.push_back({static_cast<uint32_t>(j * width + i), static_cast<float>(a)});
         }
     }
+}
+
+// Splits a convex polygon by the directed line a -> b into its left part (inside a
+// counter-clockwise polygon's edge) and its right part, sharing the crossing points.
+template <class P>
+inline void split_by_edge(const P& in, const Vec2& a, const Vec2& b, P& left, P& right) {
+    left.clear();
+    right.clear();
+    if (in.size() == 0) return;
+    const Vec2 e = b - a;
+    auto side = [&](const Vec2& p) { return e.x * (p.y - a.y) - e.y * (p.x - a.x); };
+    const Vec2* p = &in[in.size() - 1];
+    double dp = side(*p);
+    for (int k = 0; k < in.size(); ++k) {
+        const Vec2& q = in[k];
+        const double dq = side(q);
+        if ((dp < 0) != (dq < 0) && dp != 0 && dq != 0) {
+            const Vec2 x = *p + (q - *p) * (dp / (dp - dq));
+            left.push(x);
+            right.push(x);
+        }
+        if (dq >= 0) left.push(q);
+        if (dq <= 0) right.push(q);
+        p = &q;
+        dp = dq;
+    }
+}
+
+// Mirror image of a point in the line through a with direction e.
+inline Vec2 reflect(const Vec2& p, const Vec2& a, const Vec2& e) {
+    const Vec2 d = p - a;
+    const Vec2 along = e * (glm::dot(d, e) / glm::dot(e, e));
+    return a + along - (d - along);
+}
+
+// Appends the overlaps of (the quad ∩ polygon) plus (each part of the quad beyond an edge,
+// mirrored back across that edge, ∩ polygon) with the grid. See the header for why.
+template <class P>
+void footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
+                       int height, std::vector<TexelOverlap>& out) {
+    const int n = static_cast<int>(polygon.size());
+    P inside, left, right, spill, tmp;
+    for (int k = 0; k < 4; ++k) inside.push(quad[k]);
+    for (int e = 0; e < n && inside.size() >= 3; ++e) {
+        const Vec2& a = polygon[e];
+        const Vec2& b = polygon[(e + 1) % n];
+        split_by_edge(inside, a, b, left, right);
+        std::swap(inside, left);
+        if (right.size() < 3 || area(right) <= 0.0) continue;
+        // The part beyond edge e (and inside the edges before it), mirrored into the face.
+        spill.clear();
+        for (int k = 0; k < right.size(); ++k) spill.push(reflect(right[k], a, b - a));
+        for (int f = 0; f < n && spill.size() >= 3; ++f) {
+            split_by_edge(spill, polygon[f], polygon[(f + 1) % n], left, tmp);
+            std::swap(spill, left);
+        }
+        if (spill.size() >= 3) slice_to_grid(spill, width, height, out);
+    }
+    if (inside.size() >= 3) slice_to_grid(inside, width, height, out);
+}
+
+}  // namespace
+
+int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<TexelOverlap>& out) {
+    const size_t before = out.size();
+    SmallPoly<12> q;  // a quad cut by grid lines stays within 12 vertices
+    for (int k = 0; k < 4; ++k) q.push(quad[k]);
+    slice_to_grid(q, width, height, out);
     return static_cast<int>(out.size() - before);
 }
 
-int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution, int width,
-                         int height, std::vector<TexelOverlap>& out) {
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
+                           int height, std::vector<TexelOverlap>& out) {
+    const size_t before = out.size();
+    // Whole quad inside the polygon (the interior of a face): no polygon clipping.
+    bool whole = true;
+    const int n = static_cast<int>(polygon.size());
+    for (int e = 0; e < n && whole; ++e) {
+        const Vec2& a = polygon[e];
+        const Vec2 d = polygon[(e + 1) % n] - a;
+        for (int k = 0; k < 4; ++k)
+            whole = whole && d.x * (quad[k].y - a.y) - d.y * (quad[k].x - a.x) >= 0;
+    }
+    if (whole) return clip_quad_to_grid(quad, width, height, out);
+    // A quad (4) cut by n edges, mirrored pieces cut by n edges, then by grid lines (+8).
+    if (n <= 8)
+        footprint_to_grid<SmallPoly<4 + 2 * 8 + 8>>(quad, polygon, width, height, out);
+    else
+        footprint_to_grid<BigPoly>(quad, polygon, width, height, out);
+    // The same texel can be reached by the direct part and by mirrored parts: merge.
+    for (size_t i = before; i < out.size(); ++i)
+        for (size_t j = i + 1; j < out.size();) {
+            if (out[j].texel == out[i].texel) {
+                out[i].area += out[j].area;
+                out[j] = out.back();
+                out.pop_back();
+            } else {
+                ++j;
+            }
+        }
+    return static_cast<int>(out.size() - before);
+}
+
+std::vector<Vec2> face_in_texels(const Face& face) {
+    const TexelFrame& tf = face.texels;
+    std::vector<Vec2> poly;
+    poly.reserve(face.vertices.size());
+    for (const Vec3& v : face.vertices) {
+        const Vec3 d = v - tf.origin;
+        poly.emplace_back(glm::dot(d, tf.axis_u) / tf.size, glm::dot(d, tf.axis_v) / tf.size);
+    }
+    double twice = 0.0;
+    for (size_t k = 0; k < poly.size(); ++k) {
+        const Vec2& a = poly[k];
+        const Vec2& b = poly[(k + 1) % poly.size()];
+        twice += a.x * b.y - a.y * b.x;
+    }
+    if (twice < 0) std::reverse(poly.begin(), poly.end());
+    return poly;
+}
+
+int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
+                         const std::vector<Vec2>& polygon, int width, int height,
+                         std::vector<TexelOverlap>& out) {
     const double h = 1.0 / resolution;
     const double x = (2.0 * i + 1.0) / resolution - 1.0, y = (2.0 * j + 1.0) / resolution - 1.0;
     const Vec2 c = map(x, y);
     const Vec2 ax = map.dx * h, ay = map.dy * h;
     const Vec2 quad[4] = {c - ax - ay, c + ax - ay, c + ax + ay, c - ax + ay};
-    return clip_quad_to_grid(quad, width, height, out);
+    return clip_footprint_to_grid(quad, polygon, width, height, out);
 }
 
 }  // namespace vlf

@@ -37,8 +37,24 @@ struct TexelOverlap {
 // every part of the quad lands on some cell). Returns the number of entries appended.
 int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<TexelOverlap>& out);
 
-// Overlaps of the beam of pixel (i, j) of an N x N PSF with the face's texels.
-int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution, int width,
-                         int height, std::vector<TexelOverlap>& out);
+// A covered ray's beam on its face (docs/propagation.md §3): rays are sampled at pixel
+// centres, so a beam whose centre is inside the polygon may spill over an edge while the
+// beams next to it, whose centres fell outside, leave a gap inside. The weights are the
+// quad ∩ polygon plus each part beyond an edge mirrored back across that edge, ∩ polygon.
+// For a straight edge this is unbiased: averaged over the position of the ray grid, every
+// point of the face receives the same weight density (the footprint is centrally
+// symmetric, so the mirrored spill fills exactly the expected gap). The quad and the
+// convex polygon (counter-clockwise) are in texel coordinates.
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
+                           int height, std::vector<TexelOverlap>& out);
+
+// The face's polygon in its texel coordinates, counter-clockwise.
+std::vector<Vec2> face_in_texels(const Face& face);
+
+// Overlaps of the beam of pixel (i, j) of an N x N PSF, clipped to the face's polygon (in
+// texel coordinates, from face_in_texels), with the face's texels.
+int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
+                         const std::vector<Vec2>& polygon, int width, int height,
+                         std::vector<TexelOverlap>& out);
 
 }  // namespace vlf

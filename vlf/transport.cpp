@@ -89,8 +89,7 @@ namespace {
 struct GeometryInputs {
     const Scene& scene;
     const TextureMaps& tex;
-    const std::vector<float>& inside;
-    const std::vector<uint32_t>& redirect;
+    const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
 };
 
 void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
@@ -136,28 +135,13 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
                 continue;
             }
             const PsfToTexel map = psf_to_texel(face, rot);
-            const size_t tb = in.tex.begin(face.id);
+            const std::vector<Vec2>& poly = in.polygons[fr.face];
             tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                const size_t first = g.ov.size();
-                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, face.texels.width,
-                                     face.texels.height, g.ov);
-                // The part of an overlap that falls outside the polygon (rim texels) goes to
-                // the nearest texel mostly inside it: beams that spill over the rim put their
-                // power next to the rim, where the beams whose centres missed the face left
-                // a gap (docs/propagation.md §3).
-                const size_t last = g.ov.size();
-                for (size_t q = first; q < last; ++q) {
-                    const uint32_t t = g.ov[q].texel;
-                    const uint32_t r = in.redirect[tb + t];
-                    if (r == t) continue;
-                    const float keep = in.inside[tb + t];
-                    if (keep <= 0.0f) {
-                        g.ov[q].texel = r;
-                        continue;
-                    }
-                    g.ov.push_back({r, g.ov[q].area * (1.0f - keep)});
-                    g.ov[q].area *= keep;
-                }
+                // The beam's footprint on the face itself: the part of the pixel's
+                // parallelogram inside the polygon, sliced by the texel grid (area-exact at
+                // the rim, docs/propagation.md §3).
+                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, poly,
+                                     face.texels.width, face.texels.height, g.ov);
                 g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
             });
         }
@@ -260,46 +244,8 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_other = RadianceMaps(scene, other, l, m_coverage, false);
     m_mean_reflectance = area > 0 ? refl / area : 0.0;  // VLF §4.5 eq. (4)
     m_deferred.assign(nf, 0);
-    // Rim texels: the fraction of each texel inside its polygon, and for texels less than
-    // wholly inside, the nearest texel at least half inside (or the most-inside texel of a
-    // face too thin to have one), which takes the outside part of their beam overlaps.
-    m_inside.resize(m_tex.texels());
-    m_redirect.resize(m_tex.texels());
-    parallel_for(0, static_cast<long>(nf), [&](long fi) {
-        const Face& f = scene.faces[fi];
-        const int W = f.texels.width, H = f.texels.height;
-        const size_t b = m_tex.begin(int(fi));
-        const double cell = f.texels.size * f.texels.size;
-        double most = 0.0;
-        for (size_t k = 0; k < size_t(W) * H; ++k) {
-            m_inside[b + k] = static_cast<float>(std::min(1.0, f.texel_area[k] / cell));
-            most = std::max(most, double(m_inside[b + k]));
-        }
-        const float good = static_cast<float>(std::min(0.5, most));
-        for (int j = 0; j < H; ++j)
-            for (int i = 0; i < W; ++i) {
-                const size_t k = size_t(j) * W + i;
-                m_redirect[b + k] = static_cast<uint32_t>(k);
-                if (m_inside[b + k] >= 1.0f || m_inside[b + k] >= good) {
-                    if (m_inside[b + k] >= 1.0f) continue;
-                }
-                double best = 1e300;
-                uint32_t pick = static_cast<uint32_t>(k);
-                for (int r = 1; r < std::max(W, H) && best > double(r - 1) * (r - 1); ++r)
-                    for (int y = std::max(0, j - r); y <= std::min(H - 1, j + r); ++y)
-                        for (int x = std::max(0, i - r); x <= std::min(W - 1, i + r); ++x) {
-                            if (std::max(std::abs(x - i), std::abs(y - j)) != r) continue;
-                            const size_t q = size_t(y) * W + x;
-                            const double d2 = double(x - i) * (x - i) + double(y - j) * (y - j);
-                            if (m_inside[b + q] >= good && m_inside[b + q] > m_inside[b + k] &&
-                                d2 < best) {
-                                best = d2;
-                                pick = static_cast<uint32_t>(q);
-                            }
-                        }
-                m_redirect[b + k] = pick;
-            }
-    });
+    m_polygons.resize(nf);
+    for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
     m_cache.resize(static_cast<size_t>(l));
     m_timings.setup = since(t0);
 }
@@ -385,7 +331,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
         const Rgb u = TextureMaps::sum(m_tex.current, m_tex.begin(int(f)), m_tex.count(int(f)));
         sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
     }
-    const GeometryInputs inputs{scene, m_tex, m_inside, m_redirect};
+    const GeometryInputs inputs{scene, m_tex, m_polygons};
     // Geometry of the true directions is kept across cycles while it fits the budget; the
     // rest is rebuilt each cycle (identical either way, so the budget never changes a map).
     std::vector<std::unique_ptr<Geometry>>* cache = true_directions ? &m_cache : nullptr;

@@ -107,8 +107,7 @@ private:
     RadianceMaps m_spec;                 // L_U, L_T of specular faces
     RadianceMaps m_other;                // L_T of the other faces (--store-all-rays)
     std::vector<uint8_t> m_deferred;     // per face, this cycle
-    std::vector<float> m_inside;         // per texel: fraction inside its polygon
-    std::vector<uint32_t> m_redirect;    // per texel: where its outside part's share goes
+    std::vector<std::vector<Vec2>> m_polygons;  // per face: its polygon in texel coordinates
     std::vector<LedgerEntry> m_ledger;
     LedgerEntry m_running;               // cumulative absorbed/escaped/emitted
     double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
