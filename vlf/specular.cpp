@@ -138,7 +138,7 @@ void gather_specular(const Scene& scene, const DirectionSet& dirs,
                 }
             }
             for (size_t k = 0; k < points.size(); ++k)
-                maps.unshot_next[base + k] = RgbF(acc[k]);
+                maps.unshot_next[base + k] += RgbF(acc[k]);
         }
     });
 }
