@@ -13,11 +13,13 @@ NumericalLoss& NumericalLoss::operator+=(const NumericalLoss& o) {
     empty_footprint += o.empty_footprint;
     grazing_mirror += o.grazing_mirror;
     subpixel_mirror += o.subpixel_mirror;
+    rounding += o.rounding;
     return *this;
 }
 
 NumericalLoss NumericalLoss::operator*(double s) const {
-    return {back_face * s, sealed * s, empty_footprint * s, grazing_mirror * s, subpixel_mirror * s};
+    return {back_face * s,      sealed * s,          empty_footprint * s,
+            grazing_mirror * s, subpixel_mirror * s, rounding * s};
 }
 
 double LedgerEntry::relative_error() const {
@@ -38,7 +40,8 @@ nlohmann::json to_json(const LedgerEntry& e) {
                                  {"sealed", v(e.lost.sealed)},
                                  {"empty_footprint", v(e.lost.empty_footprint)},
                                  {"grazing_mirror", v(e.lost.grazing_mirror)},
-                                 {"subpixel_mirror", v(e.lost.subpixel_mirror)}};
+                                 {"subpixel_mirror", v(e.lost.subpixel_mirror)},
+                                 {"rounding", v(e.lost.rounding)}};
     return {{"cycle", e.cycle},
             {"emitted", v(e.emitted)},
             {"absorbed", v(e.absorbed)},

@@ -23,8 +23,10 @@ struct NumericalLoss {
     Rgb grazing_mirror{0.0};   // reflected light with no PSF direction able to carry it
     Rgb subpixel_mirror{0.0};  // a mirror's unshot light with no ray on the finer exchange
                                // grid (super-sampling) to leave by
+    Rgb rounding{0.0};         // reflected power that single-precision radiance maps
+                               // did not keep (deposited minus stored; either sign)
     Rgb total() const {
-        return back_face + sealed + empty_footprint + grazing_mirror + subpixel_mirror;
+        return back_face + sealed + empty_footprint + grazing_mirror + subpixel_mirror + rounding;
     }
     NumericalLoss& operator+=(const NumericalLoss& o);
     NumericalLoss operator*(double s) const;

@@ -49,8 +49,10 @@ int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incomi
 // Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
 // zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).
 // `rotations[d]` is the rotation of PSF d; `ray_area` = (2/N)^2.
-void gather_specular(const Scene& scene, const DirectionSet& dirs,
-                     const std::vector<Mat3>& rotations, int resolution, int tile,
-                     const std::vector<SpecularSource>& sources, RadianceMaps& maps);
+// Returns the power that single-precision storage rounded away (deposited minus stored,
+// either sign), so the ledger can book it.
+Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
+                    const std::vector<Mat3>& rotations, int resolution, int tile,
+                    const std::vector<SpecularSource>& sources, RadianceMaps& maps);
 
 }  // namespace vlf

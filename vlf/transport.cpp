@@ -659,7 +659,7 @@ void Transport::run_pass(int pass, double share) {
     m_timings.passes += since(pass_start);
     const auto t0 = Clock::now();
     if (!sources.empty())
-        gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
+        m_running.lost.rounding += gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
     m_timings.specular += since(t0);
 }
 
