@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cmath>
 
 #include "test_util.hpp"
 #include "vlf/direction_set.hpp"
@@ -161,6 +162,37 @@ TEST(ExchangeOrder, NearestFacingSurfaceWins) {
     EXPECT_GT(saw_top, 0);
     EXPECT_GT(saw_middle, 0);
     EXPECT_GT(top_blocked, 0);
+}
+
+// Coincident opposite-facing surfaces: two solids in contact face into each other and
+// pair; the two sides of a two-sided face look away from each other and do not.
+TEST(Exchange, ContactsPairAndTwoSidedFacesDoNot) {
+    for (bool twins : {false, true}) {
+        Scene scene = test::make_scene({{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}},
+                                        {{-0.5, -0.5, 0}, {-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}}});
+        if (twins) {
+            scene.faces[0].twin = 1;
+            scene.faces[1].twin = 0;
+        }
+        const DirectionSet dirs(9);
+        int d = 0;  // the direction most across the faces
+        for (int k = 1; k < dirs.size(); ++k)
+            if (std::abs(dirs.direction(k).z) > std::abs(dirs.direction(d).z)) d = k;
+        const Psf psf = rasterise_psf(scene, dirs.direction(d), d, 16, 8);
+        TileExchange x;
+        ExchangeScratch scratch;
+        int64_t pairs = 0, rays = 0;
+        for (const Tile& tile : psf.tiles) {
+            build_exchange(scene, psf, tile, x, scratch);
+            for (const Fragment& f : tile.fragments)
+                for (uint32_t k = 0; k < f.covered; ++k) {
+                    ++rays;
+                    pairs += x.partner[f.ray_offset + k] >= 0;
+                }
+        }
+        ASSERT_GT(rays, 0);
+        EXPECT_EQ(pairs, twins ? 0 : rays) << (twins ? "two-sided face" : "contact");
+    }
 }
 
 }  // namespace

@@ -158,6 +158,21 @@ TEST(TransportLedger, ContactGeometryLeaksNothing) {
     }
 }
 
+// Every second of a run is in a wall-clock bucket: the phases add up to the total,
+// perturbed passes included (they used to be in none).
+TEST(TransportTimings, PhasesAddUpToTheTotal) {
+    const Scene scene = load_scene(test::source_path("scenes/cornell-mirrors.json"));
+    PropagateParams p = params(129, 32, 8, 3, true);
+    p.perturbations = 2;
+    p.filter_sigma = 0.7;
+    p.resample = true;
+    const Propagation run = propagate(scene, p, {});
+    const nlohmann::json t = propagation_report(scene, p, run, 0.0)["timings_s"];
+    const double total = t["total"].get<double>(), other = t["other"].get<double>();
+    EXPECT_GT(t["passes"].get<double>(), 0.5 * total);
+    EXPECT_LE(std::abs(other), 0.02 * total + 0.005) << t.dump();
+}
+
 // Numerical loss (light sent to back faces, into sealed rays, grazing mirrors, empty
 // footprints) stays under 0.1 % of the emission on every shipped scene at the defaults.
 TEST(TransportLedger, NumericalLossUnderAThousandthOnEveryScene) {

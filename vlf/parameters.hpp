@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -21,7 +22,13 @@ struct FieldParams {
 struct PropagateParams {
     FieldParams field;
     double texel_size = 0.0;   // user units; 0: the scene's settings.texel_size or its default
-    int cycles = 4;            // propagation cycles (cycle 1 carries the emission)
+    int texel_divisions = 32;  // that default: the scene's bounding-sphere radius / this
+    int cycles = 4;            // propagation cycles (cycle 1 carries the emission); with
+                               // stop_unshot > 0, the most cycles to run
+    // Stop after the cycle that leaves less than this fraction of the emitted power still
+    // to shoot (unshot + deferred), per channel; 0: run all `cycles`.
+    double stop_unshot = 0.0;
+    std::string quality = "custom";  // the preset the parameters came from (quality.hpp)
     int threads = 0;           // 0: all hardware threads
     bool deferred = true;      // VLF §4.5 deferred propagation
     int perturbations = 0;     // VLF §5 stratified perturbed PSFs per cycle (0: off)

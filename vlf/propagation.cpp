@@ -15,6 +15,13 @@
 
 namespace vlf {
 
+bool settled(const LedgerEntry& e, double stop_unshot) {
+    if (stop_unshot <= 0.0) return false;
+    for (int c = 0; c < 3; ++c)
+        if (e.unshot[c] + e.deferred[c] > stop_unshot * e.emitted[c]) return false;
+    return true;
+}
+
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts) {
     const auto t0 = std::chrono::steady_clock::now();
     Propagation run;
@@ -23,7 +30,9 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     run.transport->set_progress(&bar);
     for (int c = 1; c <= params.cycles; ++c) {
         run.transport->run_cycle(c == params.cycles);
-        if (opts.on_cycle) opts.on_cycle(run.transport->ledger().back());
+        const LedgerEntry& e = run.transport->ledger().back();
+        if (opts.on_cycle) opts.on_cycle(e);
+        if (settled(e, params.stop_unshot)) break;
     }
     run.transport->set_progress(nullptr);
     bar.finish();

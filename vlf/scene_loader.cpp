@@ -718,7 +718,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, 
     else if (d.texel_size)
         scene.texel_size_user = *d.texel_size;
     else
-        scene.texel_size_user = half_diagonal / 32.0;
+        scene.texel_size_user = half_diagonal / options.texel_divisions;
     const double texel = scene.texel_size_user * scene.normalisation.scale;
     const int cap = options.max_texels_per_side;
     tbb::parallel_for(size_t(0), scene.faces.size(), [&](size_t k) { build_texel_frame(scene.faces[k], texel, cap); });
@@ -728,6 +728,8 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, 
 void check_options(const LoadOptions& options) {
     if (!std::isfinite(options.texel_size_user))
         throw ParameterError(fmt::format("texel size must be finite (got {})", options.texel_size_user));
+    if (options.texel_divisions < 1)
+        throw ParameterError(fmt::format("texel divisions must be >= 1 (got {})", options.texel_divisions));
     if (options.max_texels_per_side < 1)
         throw ParameterError(fmt::format("max texels per side must be >= 1 (got {})", options.max_texels_per_side));
 }
