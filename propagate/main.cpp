@@ -1,21 +1,21 @@
 // propagate — builds the virtual light field of a scene and propagates light through it.
 // Thin: options into vlf::PropagateParams, then the library does the work.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <string>
 
+#include "vlf/bake.hpp"
 #include "vlf/cli_main.hpp"
 #include "vlf/error.hpp"
-#include "vlf/bake.hpp"
 #include "vlf/light_field.hpp"
+#include "vlf/parallel.hpp"
+#include "vlf/parameters.hpp"
 #include "vlf/progress.hpp"
 #include "vlf/propagation.hpp"
 #include "vlf/quality.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/parameters.hpp"
 #include "vlf/report.hpp"
 #include "vlf/scene_loader.hpp"
 
@@ -118,12 +118,13 @@ int run(Options o, const CLI::App& app) {
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
     if (!o.quiet)
-        std::printf("memory     peak %.1f MiB; geometry cache %.1f MiB for %d of %d directions "
-                    "(--cache-budget %lld)\n",
-                    double(vlf::peak_rss_bytes()) / (1 << 20),
-                    double(run.transport->geometry_cache_bytes()) / (1 << 20),
-                    run.transport->cached_directions(), run.transport->directions().size(),
-                    static_cast<long long>(p.cache_budget_mib));
+        std::printf(
+            "memory     peak %.1f MiB; geometry cache %.1f MiB for %d of %d directions "
+            "(--cache-budget %lld)\n",
+            double(vlf::peak_rss_bytes()) / (1 << 20),
+            double(run.transport->geometry_cache_bytes()) / (1 << 20),
+            run.transport->cached_directions(), run.transport->directions().size(),
+            static_cast<long long>(p.cache_budget_mib));
     if (!o.report.empty()) std::printf("report     %s\n", o.report.c_str());
     return 0;
 }
@@ -185,7 +186,8 @@ int main(int argc, char** argv) {
                    "MiB of per-direction geometry kept across cycles (0 = rebuild every "
                    "cycle: least memory); speed and memory only, the bake is the same")
         ->capture_default_str();
-    app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")->capture_default_str();
+    app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")
+        ->capture_default_str();
     app.add_flag("-q,--quiet", o.quiet, "No progress bar");
 
     return vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o, app); });

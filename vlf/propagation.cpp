@@ -3,15 +3,14 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include <cstdio>
-
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "vlf/progress.hpp"
 #include "vlf/raycaster.hpp"
-#include "vlf/resample.hpp"
 #include "vlf/report.hpp"
+#include "vlf/resample.hpp"
 
 namespace vlf {
 
@@ -110,18 +109,17 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
     const TransportTimings& tm = t.timings();
     // Wall-clock phases that add up to the total ("other" is what falls between them);
     // inside the passes, CPU seconds summed over worker threads.
-    nlohmann::json timings = {
-        {"setup", tm.setup},
-        {"passes", tm.passes},
-        {"specular", tm.specular},
-        {"filter", tm.filter},
-        {"bookkeeping", tm.bookkeeping},
-        {"resample", run.seconds_resample},
-        {"cpu_in_passes",
-         {{"rasterise", tm.rasterise},
-          {"clipping", tm.clipping},
-          {"exchange", tm.exchange},
-          {"transfer", tm.transfer}}}};
+    nlohmann::json timings = {{"setup", tm.setup},
+                              {"passes", tm.passes},
+                              {"specular", tm.specular},
+                              {"filter", tm.filter},
+                              {"bookkeeping", tm.bookkeeping},
+                              {"resample", run.seconds_resample},
+                              {"cpu_in_passes",
+                               {{"rasterise", tm.rasterise},
+                                {"clipping", tm.clipping},
+                                {"exchange", tm.exchange},
+                                {"transfer", tm.transfer}}}};
     set_write_time(timings, run, write_seconds);
     const auto& tex = t.texture_maps();
     nlohmann::json memory = {
@@ -137,9 +135,10 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
             {"surfaces", surface_report(scene, tex)},
             {"timings_s", timings},
             {"memory_bytes", memory},
-            {"geometry_cache", {{"budget_mib", params.cache_budget_mib},
-                                {"directions_cached", t.cached_directions()},
-                                {"directions", t.directions().size()}}}};
+            {"geometry_cache",
+             {{"budget_mib", params.cache_budget_mib},
+              {"directions_cached", t.cached_directions()},
+              {"directions", t.directions().size()}}}};
 }
 
 }  // namespace vlf

@@ -5,9 +5,8 @@
 
 #include <functional>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "vlf/parameters.hpp"
 #include "vlf/scene.hpp"
@@ -16,8 +15,8 @@
 namespace vlf {
 
 struct RunOptions {
-    bool progress = false;                            // progress bar on stderr
-    std::function<void(const LedgerEntry&)> on_cycle; // called after every cycle
+    bool progress = false;                             // progress bar on stderr
+    std::function<void(const LedgerEntry&)> on_cycle;  // called after every cycle
 };
 
 struct Propagation {

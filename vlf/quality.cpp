@@ -11,16 +11,20 @@ Quality quality_from_string(const std::string& name) {
     if (name == "preview") return Quality::Preview;
     if (name == "final") return Quality::Final;
     if (name == "reference") return Quality::Reference;
-    throw ParameterError(fmt::format(
-        "--quality: '{}' is not a preset (draft, preview, final or reference)", name));
+    throw ParameterError(
+        fmt::format("--quality: '{}' is not a preset (draft, preview, final or reference)", name));
 }
 
 std::string to_string(Quality q) {
     switch (q) {
-        case Quality::Draft: return "draft";
-        case Quality::Preview: return "preview";
-        case Quality::Final: return "final";
-        case Quality::Reference: return "reference";
+        case Quality::Draft:
+            return "draft";
+        case Quality::Preview:
+            return "preview";
+        case Quality::Final:
+            return "final";
+        case Quality::Reference:
+            return "reference";
     }
     return "?";
 }
