@@ -368,7 +368,7 @@ TEST(TransportMirror, ImageSourceIrradiance) {
 // carry the light into the mirror and out of it without losing any (each pass's
 // reflections add to the mirror's unshot maps).
 TEST(TransportMirror, ImageSourceIrradianceWithPerturbationAndSupersampling) {
-    for (const auto [P, s] : {std::pair{1, 1}, std::pair{3, 2}}) {
+    for (const auto& [P, s] : {std::pair{1, 1}, std::pair{3, 2}}) {
         const RatioStats r = mirror_image_ratios(1.0, P, s);
         EXPECT_LT(r.worst, 0.05) << "P = " << P << ", s = " << s << ", mean ratio " << r.mean;
         EXPECT_NEAR(r.mean, 1.0, 0.02) << "P = " << P << ", s = " << s;

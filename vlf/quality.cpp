@@ -29,43 +29,35 @@ std::string to_string(Quality q) {
     return "?";
 }
 
+namespace {
+
+struct Preset {
+    int directions, resolution, tile, texel_divisions, cycles;
+    double stop_unshot, filter_sigma;
+};
+
+// Measured on the empty Cornell box against the path tracer (docs/quality.md,
+// BENCHMARKS.md). What error remains at a setting is mostly the "ray effect" of a small
+// lamp seen along discrete directions (blotches), which more directions and the filter
+// reduce, and the texel size at the corners.
+constexpr Preset kPresets[] = {
+    {129, 32, 8, 16, 32, 1e-2, 1.0},      // draft: a second, where the light goes
+    {2049, 64, 8, 32, 64, 2e-3, 1.0},     // preview: seconds, within 5 % away from emitters
+    {2049, 128, 16, 64, 128, 5e-4, 1.5},  // final: within a minute, within 2 %
+    {8193, 128, 16, 64, 256, 1e-4, 1.5},  // reference: minutes, for comparisons
+};
+
+}  // namespace
+
 PropagateParams quality_params(Quality q) {
+    const Preset& k = kPresets[static_cast<int>(q)];
     PropagateParams p;
     p.quality = to_string(q);
-    // Measured on the empty Cornell box against the path tracer (docs/quality.md,
-    // BENCHMARKS.md). The error that remains at a setting is mostly the "ray effect" of a
-    // small lamp seen along discrete directions (blotches), which more directions and the
-    // filter reduce, and the texel size at the corners.
-    switch (q) {
-        case Quality::Draft:  // a second: where the light goes
-            p.field = {129, 32, 8, DirectionScheme::Octahedral};
-            p.texel_divisions = 16;
-            p.cycles = 32;
-            p.stop_unshot = 1e-2;
-            p.filter_sigma = 1.0;
-            break;
-        case Quality::Preview:  // seconds: within 5 % away from emitters
-            p.field = {2049, 64, 8, DirectionScheme::Octahedral};
-            p.texel_divisions = 32;
-            p.cycles = 64;
-            p.stop_unshot = 2e-3;
-            p.filter_sigma = 1.0;
-            break;
-        case Quality::Final:  // within a minute: within 2 %
-            p.field = {2049, 128, 16, DirectionScheme::Octahedral};
-            p.texel_divisions = 64;
-            p.cycles = 128;
-            p.stop_unshot = 5e-4;
-            p.filter_sigma = 1.5;
-            break;
-        case Quality::Reference:  // minutes: for comparisons
-            p.field = {8193, 128, 16, DirectionScheme::Octahedral};
-            p.texel_divisions = 64;
-            p.cycles = 256;
-            p.stop_unshot = 1e-4;
-            p.filter_sigma = 1.5;
-            break;
-    }
+    p.field = {k.directions, k.resolution, k.tile, DirectionScheme::Octahedral};
+    p.texel_divisions = k.texel_divisions;
+    p.cycles = k.cycles;
+    p.stop_unshot = k.stop_unshot;
+    p.filter_sigma = k.filter_sigma;
     return p;
 }
 
