@@ -1,6 +1,7 @@
 #include "vlf/transport.hpp"
 
 #include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <chrono>
@@ -56,9 +57,25 @@ struct ChunkResult {
     NumericalLoss lost;
     std::vector<SpecularSource> sources;
     double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
+    // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
+    void reset(size_t texels) {
+        next.assign(texels, Rgb(0.0));
+        absorbed = escaped = Rgb(0.0);
+        lost = NumericalLoss{};
+        sources.clear();
+        rasterise = clipping = exchange = transfer = 0;
+    }
 };
 
 }  // namespace
+
+// Buffers that live as long as the transport: one Scratch per worker thread and the
+// chunk accumulators of a wave, reused by every pass of every cycle (their contents are
+// overwritten, so reuse never changes a result).
+struct Transport::Workspace {
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    std::vector<ChunkResult> chunks;
+};
 
 // Everything of a direction that depends only on geometry: the PSF, the slots of its
 // rays, fragments grouped by face, the beam/texel overlaps (continuous clipping) and the
@@ -267,6 +284,7 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
+    m_work = std::make_unique<Workspace>();
     m_timings.setup = since(t0);
 }
 
@@ -370,14 +388,14 @@ void Transport::run_pass(int pass, double share) {
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
-    std::vector<ChunkResult> chunks(kWave);
+    std::vector<ChunkResult>& chunks = m_work->chunks;
+    chunks.resize(kWave);
     std::vector<SpecularSource> sources;
     for (int wave = 0; wave < kChunks; wave += kWave) {
         parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
             ChunkResult& res = chunks[c - wave];
-            res = ChunkResult{};
-            res.next.assign(m_tex.texels(), Rgb(0.0));
-            Scratch w;
+            res.reset(m_tex.texels());
+            Scratch& w = m_work->scratch.local();
             const int d0 = static_cast<int>(c * l / kChunks),
                       d1 = static_cast<int>((c + 1) * l / kChunks);
             for (int d = d0; d < d1; ++d) {

@@ -129,6 +129,8 @@ class Transport {
     std::atomic<int64_t> m_cache_used{0};  // bytes of geometry in m_cache
     class Progress* m_progress = nullptr;
     std::vector<std::unique_ptr<DirectionGeometry>> m_cache;  // pass * l + d
+    struct Workspace;
+    std::unique_ptr<Workspace> m_work;
 };
 
 }  // namespace vlf
