@@ -91,6 +91,9 @@ struct Scene {
     Normalisation normalisation;
     Vec3 user_bounds_min{0.0}, user_bounds_max{0.0};
     double texel_size_user = 0.0;  // the texel size used, user units
+    // Surfaces closer than this (normalised units: the texel size) behind the back of
+    // another are sealed by it (sealed_areas.hpp, exchange.hpp kSealed).
+    double seal_gap = 0.0;
 
     const Material& material_of(const Face& f) const { return materials[f.material]; }
     int emitter_count() const;        // faces whose material emits

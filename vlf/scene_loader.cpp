@@ -53,6 +53,7 @@
 #include "vlf/error.hpp"
 #include "vlf/mesh_import.hpp"
 #include "vlf/primitives.hpp"
+#include "vlf/sealed_areas.hpp"
 #include "vlf/texel_frame.hpp"
 
 namespace vlf {
@@ -768,6 +769,8 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     const int cap = options.max_texels_per_side;
     tbb::parallel_for(size_t(0), scene.faces.size(),
                       [&](size_t k) { build_texel_frame(scene.faces[k], texel, cap); });
+    scene.seal_gap = texel;
+    subtract_sealed_areas(scene, scene.seal_gap);
     return scene;
 }
 

@@ -172,7 +172,7 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
     g.partner.assign(S, kEscaped);
     for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
         const Tile& tile = psf.tiles[ti];
-        // A ray shut within a ray spacing of the radiance grid by the back of another
+        // A ray shut within the scene's seal gap (a texel) by the back of another
         // surface is sealed: diffuse senders leave it out (exchange.hpp).
         build_exchange(scene, psf, tile, x, xs, in.seal_gap);
         const uint32_t tb = g.tile_base[ti];
@@ -380,7 +380,7 @@ void Transport::run_pass(int pass, double share) {
             if (face.texel_area[t] > 0.0)
                 exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
     }
-    const GeometryInputs inputs{scene, m_tex, m_polygons, 2.0 / Nc};
+    const GeometryInputs inputs{scene, m_tex, m_polygons, scene.seal_gap};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
     // cycle (identical either way, so the budget never changes a map).
     std::unique_ptr<Geometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
