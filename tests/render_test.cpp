@@ -1,7 +1,10 @@
 // Walkthrough rendering (VLF §6; DESIGN §7–8): pinhole camera and camera paths, image I/O,
 // the path-traced reference (furnace, determinism) and the accuracy of the bake's render
 // modes against that reference on the Cornell scenes.
+#include "vlf/render.hpp"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +14,6 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <unistd.h>
 
 #include "test_util.hpp"
 #include "vlf/bake.hpp"
@@ -21,7 +23,6 @@
 #include "vlf/parallel.hpp"
 #include "vlf/pathtrace.hpp"
 #include "vlf/propagation.hpp"
-#include "vlf/render.hpp"
 #include "vlf/scene_loader.hpp"
 
 namespace vlf {
@@ -30,7 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 
 double angle_deg(const Vec3& a, const Vec3& b) {
-    return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)) * 180.0 / kPi;
+    return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)) *
+           180.0 / kPi;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -169,7 +171,8 @@ TEST_F(ImageIo, ExrRoundTripWithinHalfPrecision) {
     ASSERT_EQ(back.height, im.height);
     for (size_t k = 0; k < im.pixels.size(); ++k)
         for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(back.pixels[k][c], im.pixels[k][c], 1e-3 * std::abs(im.pixels[k][c]) + 1e-7);
+            EXPECT_NEAR(back.pixels[k][c], im.pixels[k][c],
+                        1e-3 * std::abs(im.pixels[k][c]) + 1e-7);
     EXPECT_LT(relative_rmse(back, im), 1e-3);
 }
 
@@ -253,9 +256,10 @@ TEST(RenderPathtrace, FurnaceConvergesToLeOverOneMinusRho) {
         mean += p / double(im.pixels.size());
         worst = glm::max(worst, glm::abs(p / want - Rgb(1.0)));
     }
-    std::printf("furnace: want (%.4f %.4f %.4f) mean (%.4f %.4f %.4f) worst pixel rel. error "
-                "(%.4f %.4f %.4f)\n",
-                want.x, want.y, want.z, mean.x, mean.y, mean.z, worst.x, worst.y, worst.z);
+    std::printf(
+        "furnace: want (%.4f %.4f %.4f) mean (%.4f %.4f %.4f) worst pixel rel. error "
+        "(%.4f %.4f %.4f)\n",
+        want.x, want.y, want.z, mean.x, mean.y, mean.z, worst.x, worst.y, worst.z);
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(mean[c] / want[c], 1.0, 0.005) << "channel " << c;
         EXPECT_LT(worst[c], 0.02) << "channel " << c;
@@ -292,7 +296,8 @@ TEST(RenderPathtrace, IndependentOfThreadCount) {
 }
 
 TEST(RenderModes, NamesRoundTrip) {
-    for (RenderMode m : {RenderMode::Rays, RenderMode::Texture, RenderMode::Raytrace, RenderMode::Pathtrace})
+    for (RenderMode m :
+         {RenderMode::Rays, RenderMode::Texture, RenderMode::Raytrace, RenderMode::Pathtrace})
         EXPECT_EQ(render_mode_from_string(to_string(m)), m);
     EXPECT_THROW(render_mode_from_string("raster"), ParameterError);
 }
@@ -388,8 +393,8 @@ ModeErrors measure(const std::string& scene_file, const std::string& reference_f
             }
         e.without_lamp[m] = std::sqrt(num / den);
         std::printf("%s %-8s relative RMSE %.4f (without the lamp %.4f); %dx%d in %.2f s\n",
-                    scene_file.c_str(), to_string(modes[m]).c_str(), e.all[m],
-                    e.without_lamp[m], ref.width * 16, ref.height * 16, seconds);
+                    scene_file.c_str(), to_string(modes[m]).c_str(), e.all[m], e.without_lamp[m],
+                    ref.width * 16, ref.height * 16, seconds);
         if (const char* out = std::getenv("VLF_RENDER_TEST_OUT"))
             write_image(std::string(out) + "/" + fs::path(scene_file).stem().string() + "-" +
                             to_string(modes[m]) + ".exr",
@@ -407,7 +412,8 @@ TEST(RenderAccuracy, CornellTextureAndRaytraceWithin5Percent) {
 
 TEST(RenderAccuracy, CornellMirrorsRaytraceWithin10Percent) {
     VLF_SKIP_UNDER_SANITIZER();
-    const ModeErrors e = measure("scenes/cornell-mirrors.json", "cornell-mirrors-pathtrace-128.exr");
+    const ModeErrors e =
+        measure("scenes/cornell-mirrors.json", "cornell-mirrors-pathtrace-128.exr");
     EXPECT_LE(e.all[2], 0.10) << "raytrace";
 }
 

@@ -58,8 +58,8 @@ std::vector<uint8_t> tone_map_srgb8(const Image& im, double exposure) {
             double x = im.pixels[k][c] * scale;
             if (!std::isfinite(x) || x < 0.0) x = x > 0.0 ? 1e30 : 0.0;
             const double mapped = x / (1.0 + x);
-            out[k * 3 + c] =
-                static_cast<uint8_t>(std::clamp(std::lround(srgb_encode(mapped) * 255.0), 0L, 255L));
+            out[k * 3 + c] = static_cast<uint8_t>(
+                std::clamp(std::lround(srgb_encode(mapped) * 255.0), 0L, 255L));
         }
     return out;
 }

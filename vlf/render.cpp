@@ -27,10 +27,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string to_string(RenderMode m) {
     switch (m) {
-        case RenderMode::Rays: return "rays";
-        case RenderMode::Texture: return "texture";
-        case RenderMode::Raytrace: return "raytrace";
-        case RenderMode::Pathtrace: return "pathtrace";
+        case RenderMode::Rays:
+            return "rays";
+        case RenderMode::Texture:
+            return "texture";
+        case RenderMode::Raytrace:
+            return "raytrace";
+        case RenderMode::Pathtrace:
+            return "pathtrace";
     }
     return "?";
 }
@@ -168,8 +172,7 @@ struct Renderer::Impl {
 
     // Rays (all faces from their stored rays where they have any) or Texture (only faces
     // with rho_s > 0 from rays, the rest from P^T).
-    Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere,
-                     int max_depth) const {
+    Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere, int max_depth) const {
         RayHit hit;
         if (!caster.intersect(eye, dir, 0.0, kInf, hit)) return Rgb(0.0);
         const Face& f = scene.faces[hit.face];
@@ -210,12 +213,17 @@ Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
             }
             const Vec3 dir = cam.direction(x + 0.5, y + 0.5);
             switch (s.mode) {
-                case RenderMode::Rays: px = r.lookup_shade(cam.origin(), dir, true, s.max_depth); break;
+                case RenderMode::Rays:
+                    px = r.lookup_shade(cam.origin(), dir, true, s.max_depth);
+                    break;
                 case RenderMode::Texture:
                     px = r.lookup_shade(cam.origin(), dir, false, s.max_depth);
                     break;
-                case RenderMode::Raytrace: px = r.raytrace(cam.origin(), dir, s.max_depth); break;
-                case RenderMode::Pathtrace: break;
+                case RenderMode::Raytrace:
+                    px = r.raytrace(cam.origin(), dir, s.max_depth);
+                    break;
+                case RenderMode::Pathtrace:
+                    break;
             }
         }
     });

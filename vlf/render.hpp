@@ -31,9 +31,9 @@ struct RenderSettings {
     int width = 512;
     int height = 512;
     RenderMode mode = RenderMode::Texture;
-    int spp = 64;          // pathtrace samples per pixel (other modes: 1 ray per pixel centre)
-    int max_depth = 16;    // mirror bounces (raytrace) / path length (pathtrace)
-    uint64_t seed = 1;     // pathtrace random streams, seeded per pixel
+    int spp = 64;        // pathtrace samples per pixel (other modes: 1 ray per pixel centre)
+    int max_depth = 16;  // mirror bounces (raytrace) / path length (pathtrace)
+    uint64_t seed = 1;   // pathtrace random streams, seeded per pixel
 };
 
 // Linear radiance image, row-major, row 0 at the top.
@@ -45,7 +45,7 @@ struct Image {
 };
 
 class Renderer {
-public:
+  public:
     explicit Renderer(const Bake& bake);  // the bake must outlive the renderer
     ~Renderer();
     Renderer(const Renderer&) = delete;
@@ -56,7 +56,7 @@ public:
 
     const Bake& bake() const { return m_bake; }
 
-private:
+  private:
     struct Impl;
     const Bake& m_bake;
     std::unique_ptr<Impl> m_impl;

@@ -1,7 +1,8 @@
 // walkthrough — renders views of a VLF bake by lookup (VLF §6; DESIGN §7). Thin: options
 // in, the library renders; errors print one line `walkthrough: ...` and exit 2.
-#include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -10,8 +11,6 @@
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "vlf/bake.hpp"
 #include "vlf/camera.hpp"
@@ -41,24 +40,28 @@ struct Options {
 // The camera the options ask for: --camera NAME, or --eye/--look-at[/--up/--fov] on top of
 // the scene's first camera (or defaults), or the scene's first camera.
 vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
-    const bool explicit_view = !o.eye.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0;
+    const bool explicit_view =
+        !o.eye.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0;
     if (!o.camera.empty()) {
         if (explicit_view)
-            throw vlf::ParameterError("--camera: cannot be combined with --eye/--look-at/--up/--fov");
+            throw vlf::ParameterError(
+                "--camera: cannot be combined with --eye/--look-at/--up/--fov");
         for (const vlf::Camera& c : scene.cameras)
             if (c.name == o.camera) return c;
         std::string names;
         for (const vlf::Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
-        throw vlf::ParameterError("--camera: unknown camera '" + o.camera + "' (the scene has: " +
-                                  (names.empty() ? "none" : names) + ")");
+        throw vlf::ParameterError("--camera: unknown camera '" + o.camera +
+                                  "' (the scene has: " + (names.empty() ? "none" : names) + ")");
     }
     vlf::Camera cam;
-    if (!scene.cameras.empty()) cam = scene.cameras.front();
+    if (!scene.cameras.empty())
+        cam = scene.cameras.front();
     else if (!explicit_view)
         throw vlf::ParameterError("the scene has no camera: give --camera or --eye and --look-at");
     if (explicit_view) {
         if (scene.cameras.empty() && (o.eye.empty() || o.look_at.empty()))
-            throw vlf::ParameterError("--eye and --look-at are both needed (the scene has no camera)");
+            throw vlf::ParameterError(
+                "--eye and --look-at are both needed (the scene has no camera)");
         cam.name = "command line";
         if (!o.eye.empty()) cam.eye = vlf::parse_vec3(o.eye, "--eye");
         if (!o.look_at.empty()) cam.look_at = vlf::parse_vec3(o.look_at, "--look-at");
@@ -72,7 +75,8 @@ vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
 void check_writable_dir(const fs::path& dir, const std::string& what) {
     std::error_code ec;
     const fs::path d = dir.empty() ? fs::path(".") : dir;
-    if (!fs::is_directory(d, ec)) throw vlf::Error(what + ": directory " + d.string() + " does not exist");
+    if (!fs::is_directory(d, ec))
+        throw vlf::Error(what + ": directory " + d.string() + " does not exist");
 }
 
 int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderSettings& rs) {
@@ -90,8 +94,10 @@ int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderS
     for (int k = 0; k < path.frames; ++k) {
         const auto t0 = std::chrono::steady_clock::now();
         const vlf::Image im = renderer.render(path.frame(k), rs);
-        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        vlf::write_image((dir / fmt::format("frame_{:04d}.{}", k, o.format)).string(), im, o.exposure);
+        seconds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        vlf::write_image((dir / fmt::format("frame_{:04d}.{}", k, o.format)).string(), im,
+                         o.exposure);
         bar.advance();
     }
     bar.finish();
@@ -121,7 +127,9 @@ int run(const Options& o) {
     if (!o.interactive && o.output.empty()) throw vlf::ParameterError("-o: an output is required");
     if (!o.path.empty()) {
         if (fs::exists(o.output) && !fs::is_directory(o.output))
-            throw vlf::Error(o.output + ": exists and is not a directory (--path writes frames into a directory)");
+            throw vlf::Error(
+                o.output +
+                ": exists and is not a directory (--path writes frames into a directory)");
     } else if (!o.output.empty()) {
         std::string ext = fs::path(o.output).extension().string();
         for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -157,10 +165,11 @@ int run(const Options& o) {
     if (!o.reference.empty())
         std::printf("walkthrough: relative RMSE against %s: %.5f\n", o.reference.c_str(),
                     vlf::relative_rmse(im, vlf::read_exr(o.reference)));
-    std::printf("walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width,
-                rs.height, vlf::to_string(rs.mode).c_str(),
-                rs.mode == vlf::RenderMode::Pathtrace ? fmt::format(", {} spp", rs.spp).c_str() : "",
-                s, o.output.c_str());
+    std::printf(
+        "walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width, rs.height,
+        vlf::to_string(rs.mode).c_str(),
+        rs.mode == vlf::RenderMode::Pathtrace ? fmt::format(", {} spp", rs.spp).c_str() : "", s,
+        o.output.c_str());
     return 0;
 }
 
@@ -168,8 +177,9 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
     Options o;
-    CLI::App app{"walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"
-                 "Example: walkthrough out/cornell.vlf --camera default -o out/cornell.png"};
+    CLI::App app{
+        "walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"
+        "Example: walkthrough out/cornell.vlf --camera default -o out/cornell.png"};
     app.add_option("bake", o.bake, "Bake bundle written by propagate (OUT.vlf)")->required();
     app.add_option("--camera", o.camera, "Named camera of the scene (default: the first)");
     app.add_option("--eye", o.eye, "Eye position x,y,z (scene units)");
@@ -177,15 +187,19 @@ int main(int argc, char** argv) {
     app.add_option("--up", o.up, "Up vector x,y,z");
     app.add_option("--fov", o.fov, "Vertical field of view, degrees");
     app.add_option("--size", o.size, "Image size WxH")->capture_default_str();
-    app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")->capture_default_str();
+    app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")
+        ->capture_default_str();
     app.add_option("--spp", o.spp, "Samples per pixel (pathtrace)")->capture_default_str();
-    app.add_option("--max-depth", o.max_depth, "Mirror bounces (raytrace and the lookup modes' fallback)")
+    app.add_option("--max-depth", o.max_depth,
+                   "Mirror bounces (raytrace and the lookup modes' fallback)")
         ->capture_default_str();
     app.add_option("--seed", o.seed, "Random seed (pathtrace)")->capture_default_str();
     app.add_option("--threads", o.threads, "Worker threads (0 = all cores)")->capture_default_str();
-    app.add_option("--exposure", o.exposure, "Exposure in stops for PNG output")->capture_default_str();
+    app.add_option("--exposure", o.exposure, "Exposure in stops for PNG output")
+        ->capture_default_str();
     app.add_option("--path", o.path, "Camera path (JSON keyframes); -o is then a directory");
-    app.add_option("--format", o.format, "Frame format with --path: png | exr")->capture_default_str();
+    app.add_option("--format", o.format, "Frame format with --path: png | exr")
+        ->capture_default_str();
     app.add_option("-o,--output", o.output, "Image to write (.exr linear, .png tone-mapped)");
     app.add_option("--reference", o.reference,
                    "Reference EXR of the same view: print the relative RMSE against it");
