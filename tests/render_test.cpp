@@ -20,6 +20,7 @@
 #include "vlf/camera.hpp"
 #include "vlf/error.hpp"
 #include "vlf/image_io.hpp"
+#include "vlf/image_metrics.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/pathtrace.hpp"
 #include "vlf/propagation.hpp"

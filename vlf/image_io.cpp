@@ -118,17 +118,4 @@ Image read_exr(const std::string& path) {
     }
 }
 
-double relative_rmse(const Image& a, const Image& ref) {
-    if (a.width != ref.width || a.height != ref.height || a.pixels.size() != ref.pixels.size())
-        throw Error(fmt::format("relative_rmse: image sizes differ ({}x{} vs {}x{})", a.width,
-                                a.height, ref.width, ref.height));
-    double num = 0.0, den = 0.0;
-    for (size_t k = 0; k < a.pixels.size(); ++k) {
-        const Rgb d = a.pixels[k] - ref.pixels[k];
-        num += glm::dot(d, d);
-        den += glm::dot(ref.pixels[k], ref.pixels[k]);
-    }
-    return den > 0.0 ? std::sqrt(num / den) : (num > 0.0 ? INFINITY : 0.0);
-}
-
 }  // namespace vlf

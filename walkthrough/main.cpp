@@ -16,6 +16,7 @@
 #include "vlf/camera.hpp"
 #include "vlf/cli_main.hpp"
 #include "vlf/error.hpp"
+#include "vlf/image_metrics.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/progress.hpp"
 #include "vlf/render.hpp"
