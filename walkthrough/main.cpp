@@ -29,11 +29,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Sub-pixel rays per side of the emitter mask behind --reference's "away from emitters":
+// fixed, so the figures do not depend on --pixel-samples; as fine as the accuracy tests.
+constexpr int kEmitterMaskSamples = 16;
+constexpr int kMaxPixelSamples = 64;
+
 struct Options {
     std::string bake, camera, eye, look_at, up, size = "512x512", mode = "texture", output, path;
     std::string format = "png", reference;
     double fov = 0.0, exposure = 0.0;
-    int spp = 64, threads = 0, max_depth = 16;
+    int spp = 64, threads = 0, max_depth = 16, pixel_samples = 1;
     uint64_t seed = 1;
     bool interactive = false;
 };
@@ -121,7 +126,13 @@ int run(const Options& o) {
     if (o.spp < 1) throw vlf::ParameterError("--spp: must be at least 1");
     if (o.threads < 0) throw vlf::ParameterError("--threads: must be >= 0");
     if (o.max_depth < 0) throw vlf::ParameterError("--max-depth: must be >= 0");
+    if (o.pixel_samples < 1 || o.pixel_samples > kMaxPixelSamples)
+        throw vlf::ParameterError(
+            fmt::format("--pixel-samples: {} outside 1..{}", o.pixel_samples, kMaxPixelSamples));
+    if (o.pixel_samples != 1 && o.interactive)
+        throw vlf::ParameterError("--pixel-samples: not used by --interactive");
     rs.spp = o.spp;
+    rs.pixel_samples = o.pixel_samples;
     rs.max_depth = o.max_depth;
     rs.seed = o.seed;
     if (!std::isfinite(o.exposure)) throw vlf::ParameterError("--exposure: must be finite");
@@ -138,6 +149,18 @@ int run(const Options& o) {
             throw vlf::ParameterError("-o: " + o.output + ": unknown image extension '" + ext +
                                       "' (use .exr or .png)");
         check_writable_dir(fs::path(o.output).parent_path(), "-o");
+    }
+    // The reference is small and read before the bundle, so a wrong size fails at once.
+    vlf::Image reference;
+    if (!o.reference.empty()) {
+        if (!o.path.empty() || o.interactive)
+            throw vlf::ParameterError("--reference: only with a single image (-o IMAGE)");
+        reference = vlf::read_exr(o.reference);
+        if (reference.width != rs.width || reference.height != rs.height)
+            throw vlf::ParameterError(
+                fmt::format("--reference: {} is {}x{}, the image {}x{} (render with --size {}x{})",
+                            o.reference, reference.width, reference.height, rs.width, rs.height,
+                            reference.width, reference.height));
     }
 
     const vlf::ThreadLimit limit(o.threads);
@@ -163,9 +186,19 @@ int run(const Options& o) {
     const vlf::Image im = renderer.render(cam, rs);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     vlf::write_image(o.output, im, o.exposure);
-    if (!o.reference.empty())
-        std::printf("walkthrough: relative RMSE against %s: %.5f\n", o.reference.c_str(),
-                    vlf::relative_rmse(im, vlf::read_exr(o.reference)));
+    if (!o.reference.empty()) {
+        const vlf::PixelMask emitters =
+            renderer.emitter_mask(cam, rs.width, rs.height, kEmitterMaskSamples);
+        const vlf::ImageError e = vlf::image_error(im, reference, emitters);
+        std::printf(
+            "walkthrough: against %s: relative RMSE %.5f whole image, %.5f away from emitters "
+            "(%zu of %zu pixels)\n",
+            o.reference.c_str(), e.rmse, e.rmse_away, e.away_pixels, e.pixels);
+        std::printf(
+            "walkthrough: mean ratio image/reference away from emitters (R G B): %.4f %.4f "
+            "%.4f\n",
+            e.ratio_away.x, e.ratio_away.y, e.ratio_away.z);
+    }
     std::printf(
         "walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width, rs.height,
         vlf::to_string(rs.mode).c_str(),
@@ -191,6 +224,9 @@ int main(int argc, char** argv) {
     app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")
         ->capture_default_str();
     app.add_option("--spp", o.spp, "Samples per pixel (pathtrace)")->capture_default_str();
+    app.add_option("--pixel-samples", o.pixel_samples,
+                   "K: KxK rays per pixel, box-filtered (lookup modes; 1 = pixel centre)")
+        ->capture_default_str();
     app.add_option("--max-depth", o.max_depth,
                    "Mirror bounces (raytrace and the lookup modes' fallback)")
         ->capture_default_str();
@@ -203,7 +239,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("-o,--output", o.output, "Image to write (.exr linear, .png tone-mapped)");
     app.add_option("--reference", o.reference,
-                   "Reference EXR of the same view: print the relative RMSE against it");
+                   "Reference EXR of the same view and size: print the relative RMSE (whole "
+                   "image and away from emitters) and the mean ratio away from emitters");
     app.add_flag("--interactive", o.interactive, "Open the interactive window (GLFW)");
     return vlf::cli_main(app, argc, argv, "walkthrough", [&] { return run(o); });
 }
