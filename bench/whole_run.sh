@@ -24,13 +24,16 @@ python3 - "$work" "$repeat" <<'PY'
 import json, statistics, sys
 work, n = sys.argv[1], int(sys.argv[2])
 reports = [json.load(open(f"{work}/report-{i}.json")) for i in range(1, n + 1)]
-keys = ["total", "setup", "rasterise", "clipping", "exchange", "specular", "filter", "resample", "write"]
+keys = ["total", "setup", "passes", "specular", "filter", "bookkeeping", "resample", "write", "other"]
+cpu_keys = ["rasterise", "clipping", "exchange", "transfer"]
 med = {k: statistics.median(r["timings_s"][k] for r in reports) for k in keys}
+med.update({k: statistics.median(r["timings_s"]["cpu_in_passes"][k] for r in reports) for k in cpu_keys})
 rss = statistics.median(r["memory_bytes"]["peak_rss"] for r in reports)
 totals = ", ".join(f"{r['timings_s']['total']:.2f}" for r in reports)
 print(f"runs: {n}  total (wall) s: {totals}  median {med['total']:.3f}")
-print("median phase s (CPU, summed over threads): " +
-      "  ".join(f"{k} {med[k]:.3f}" for k in keys[1:]))
+print("median wall s per phase: " + "  ".join(f"{k} {med[k]:.3f}" for k in keys[1:]))
+print("median CPU s inside the passes (summed over threads): " +
+      "  ".join(f"{k} {med[k]:.3f}" for k in cpu_keys))
 print(f"median peak RSS: {rss / 2**20:.1f} MiB")
 err = max(e["relative_error"] for r in reports for e in r["ledger"])
 print(f"worst ledger balance error: {err:.2e}")

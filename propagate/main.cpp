@@ -81,8 +81,7 @@ int run(const Options& o) {
     vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));
     const double write_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    report["timings_s"]["write"] = write_s;
-    report["timings_s"]["total"] = run.seconds_total + write_s;
+    vlf::set_write_time(report["timings_s"], run, write_s);
     // peak_rss of the propagation_report is before the bake was assembled and written.
     report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];
     report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write

@@ -1,11 +1,18 @@
 #include "vlf/exchange.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace vlf {
 
+namespace {
+// Depths (normalised units, the scene inside the unit ball) closer than this are the same
+// surface position: far above rounding (1e-16), far below any real gap.
+constexpr double kCoincident = 1e-9;
+}  // namespace
+
 void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileExchange& out,
-                    ExchangeScratch& scratch) {
+                    ExchangeScratch& scratch, double seal_gap) {
     const int m = psf.tile_size;
     const int rays = m * m;
     out.partner.assign(tile.covered, kEscaped);
@@ -36,8 +43,8 @@ void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileEx
         });
     }
 
-    // Per ray: sort by depth (ties: the surface facing -z first, so two-sided faces and
-    // touching solids pair correctly), then pair neighbours that face each other.
+    // Per ray: sort by depth (ties: the surface facing -z first), settle coincident pairs,
+    // then pair neighbours that face each other.
     for (int r = 0; r < rays; ++r) {
         const uint32_t b = cursor[r], e = cursor[r + 1];
         if (e - b == 0) continue;
@@ -49,6 +56,19 @@ void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileEx
             return a.fragment < c.fragment;
         });
         const uint32_t cnt = e - b;
+        // Coincident opposite-facing surfaces (equal depth up to rounding): the two sides
+        // of a two-sided face look away from each other ([-1, +1]); any other pair is two
+        // solids in contact, whose fronts look into each other ([+1, -1]): they exchange
+        // only with each other, so nothing leaks through the contact.
+        for (uint32_t q = 0; q + 1 < cnt; ++q) {
+            auto& a = first[q];
+            auto& c = first[q + 1];
+            if (a.facing == c.facing || std::abs(a.depth - c.depth) > kCoincident) continue;
+            const bool twins = scene.faces[tile.fragments[a.fragment].face].twin ==
+                               tile.fragments[c.fragment].face;
+            if ((twins && a.facing > 0) || (!twins && a.facing < 0)) std::swap(a, c);
+            ++q;  // a pair is settled; do not reorder it with the next entry
+        }
         for (uint32_t q = 0; q < cnt; ++q) {
             const auto& cur = first[q];
             const uint32_t slot = tile.fragments[cur.fragment].ray_offset + cur.k;
@@ -64,7 +84,7 @@ void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileEx
                 out.partner[slot] = next->fragment;
                 out.partner_ray[slot] = next->k;
             } else {
-                out.partner[slot] = kBlocked;
+                out.partner[slot] = std::abs(next->depth - cur.depth) < seal_gap ? kSealed : kBlocked;
             }
         }
     }

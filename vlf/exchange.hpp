@@ -17,6 +17,9 @@ namespace vlf {
 // Partner codes besides a fragment index.
 inline constexpr int32_t kEscaped = -1;  // nothing in front of P along its front side
 inline constexpr int32_t kBlocked = -2;  // the next surface in front of P shows its back
+// ... within `seal_gap` of P: P is pressed against the back of another surface (a lamp
+// just under a ceiling, a mirror panel on a wall), so the ray is shut, not a path.
+inline constexpr int32_t kSealed = -3;
 
 struct TileExchange {
     // Indexed by fragment.ray_offset + k, k the ray's index in the fragment's edge table
@@ -38,7 +41,9 @@ struct ExchangeScratch {
     std::vector<Entry> entries;
 };
 
+// `seal_gap`: blocked rays whose back face lies closer than this (rotated z, normalised
+// units) are kSealed; 0 keeps every such ray kBlocked.
 void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileExchange& out,
-                    ExchangeScratch& scratch);
+                    ExchangeScratch& scratch, double seal_gap = 0.0);
 
 }  // namespace vlf

@@ -3,10 +3,13 @@
 // texture maps to remove the high frequencies that were introduced ... performed just
 // before the current and next diffuse maps are swapped").
 //
-// Each texel spreads its power over the texels of its own face within 3 sigma, weighted by
-// the Gaussian and by how much of the receiving texel lies inside the polygon, and the
-// weights of each source texel are normalised to 1: no power is created, lost or moved off
-// the face.
+// Written as an exchange of power between texels of one face: texels i and j trade
+// w_ij (B_j - B_i), B = power / area inside the face, with symmetric weights
+// w_ij = A_i A_j G(|i - j|) / (a * sum G) (a the full texel area, the sum over the whole
+// kernel). Every trade is antisymmetric, so no power is created, lost or moved off the
+// face; a uniform B stays uniform (rims and partial texels included); inside a face it is
+// the normalised Gaussian of B; texels near the rim, with fewer neighbours, keep more of
+// their own value instead of being darkened (docs/propagation.md §6).
 #pragma once
 
 #include "vlf/scene.hpp"

@@ -11,14 +11,36 @@
 
 namespace vlf {
 
+// Power that left the transport through the discretisation rather than through a
+// material or out of the scene: light sent to the wrong place shows up here instead of
+// hiding in "absorbed" (docs/propagation.md §8).
+struct NumericalLoss {
+    Rgb back_face{0.0};        // a ray whose next surface shows its back (open or
+                               // interpenetrating geometry)
+    Rgb sealed{0.0};           // light sent into a ray shut by a back face in contact
+                               // (exchange.hpp kSealed; only mirrors' light can be)
+    Rgb empty_footprint{0.0};  // a beam with no area on the face its centre hit
+    Rgb grazing_mirror{0.0};   // reflected light with no PSF direction able to carry it
+    Rgb subpixel_mirror{0.0};  // a mirror's unshot light with no ray on the finer exchange
+                               // grid (super-sampling) to leave by
+    Rgb rounding{0.0};         // reflected power that single-precision radiance maps
+                               // did not keep (deposited minus stored; either sign)
+    Rgb total() const {
+        return back_face + sealed + empty_footprint + grazing_mirror + subpixel_mirror + rounding;
+    }
+    NumericalLoss& operator+=(const NumericalLoss& o);
+    NumericalLoss operator*(double s) const;
+};
+
 struct LedgerEntry {
     int cycle = 0;
     Rgb emitted{0.0};   // loaded by emitters so far
-    Rgb absorbed{0.0};  // by surfaces (1 - rho_d - rho_s), back faces, dropped reflections
+    Rgb absorbed{0.0};  // by materials: (1 - rho_d - rho_s) of what surfaces receive
+    NumericalLoss lost; // by the discretisation, by cause
     Rgb escaped{0.0};   // left the scene (open scenes)
     Rgb unshot{0.0};    // in current texture maps and unshot radiance maps, to be shot
     Rgb deferred{0.0};  // held back by deferred surfaces (VLF §4.5)
-    // |emitted - absorbed - escaped - unshot - deferred| / emitted, worst channel.
+    // |emitted - absorbed - lost - escaped - unshot - deferred| / emitted, worst channel.
     double relative_error() const;
 };
 

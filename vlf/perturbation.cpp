@@ -12,9 +12,8 @@ double mean_cone_half_angle(const DirectionSet& dirs) {
     return std::acos(1.0 - dirs.mean_solid_angle() / (2.0 * kPi));
 }
 
-Mat3 perturbation_rotation(const DirectionSet& dirs, uint64_t seed, int cycle, int index,
-                           int count) {
-    std::seed_seq seq{uint32_t(seed), uint32_t(seed >> 32), uint32_t(cycle), uint32_t(index)};
+Mat3 perturbation_rotation(const DirectionSet& dirs, uint64_t seed, int index, int count) {
+    std::seed_seq seq{uint32_t(seed), uint32_t(seed >> 32), uint32_t(index)};
     std::mt19937_64 rng(seq);
     auto uniform = [&] { return double(rng() >> 11) * 0x1.0p-53; };
     const double alpha = mean_cone_half_angle(dirs);

@@ -85,18 +85,35 @@ int64_t current_rss_bytes() {
     return n == 2 ? static_cast<int64_t>(resident) * sysconf(_SC_PAGESIZE) : 0;
 }
 
+void set_write_time(nlohmann::json& timings, const Propagation& run, double write_seconds) {
+    const TransportTimings& tm = run.transport->timings();
+    const double total = run.seconds_total + write_seconds;
+    timings["write"] = write_seconds;
+    timings["total"] = total;
+    timings["other"] = total - tm.wall() - run.seconds_resample - write_seconds;
+}
+
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
                                   const Propagation& run, double write_seconds) {
     const Transport& t = *run.transport;
     nlohmann::json ledger = nlohmann::json::array();
     for (const LedgerEntry& e : t.ledger()) ledger.push_back(to_json(e));
     const TransportTimings& tm = t.timings();
-    // Phase times are summed over worker threads (CPU seconds); total is wall time.
-    nlohmann::json timings = {{"setup", tm.setup},       {"rasterise", tm.rasterise},
-                              {"clipping", tm.clipping}, {"exchange", tm.exchange},
-                              {"specular", tm.specular}, {"filter", tm.filter},
-                              {"resample", run.seconds_resample}, {"write", write_seconds},
-                              {"total", run.seconds_total + write_seconds}};
+    // Wall-clock phases that add up to the total ("other" is what falls between them);
+    // inside the passes, CPU seconds summed over worker threads.
+    nlohmann::json timings = {
+        {"setup", tm.setup},
+        {"passes", tm.passes},
+        {"specular", tm.specular},
+        {"filter", tm.filter},
+        {"bookkeeping", tm.bookkeeping},
+        {"resample", run.seconds_resample},
+        {"cpu_in_passes",
+         {{"rasterise", tm.rasterise},
+          {"clipping", tm.clipping},
+          {"exchange", tm.exchange},
+          {"transfer", tm.transfer}}}};
+    set_write_time(timings, run, write_seconds);
     const auto& tex = t.texture_maps();
     nlohmann::json memory = {
         {"texture_maps", static_cast<int64_t>(tex.texels() * 3 * sizeof(Rgb))},

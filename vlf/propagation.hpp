@@ -35,6 +35,8 @@ nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps);
 
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
                                   const Propagation& run, double write_seconds);
+// Sets "write", "total" and "other" (the wall time in no phase) of a report's timings_s.
+void set_write_time(nlohmann::json& timings, const Propagation& run, double write_seconds);
 
 // Peak resident set size of this process, bytes (0 when unknown).
 int64_t peak_rss_bytes();

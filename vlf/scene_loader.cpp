@@ -702,6 +702,13 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, 
             f.plane_offset = glm::dot(f.normal, polygon_centroid(f.vertices));
             scene.faces.push_back(std::move(f));
         }
+        if (o.two_sided) {  // the second half of the object's faces reverses the first
+            const int half = so.face_count / 2;
+            for (int k = 0; k < half; ++k) {
+                scene.faces[so.first_face + k].twin = so.first_face + half + k;
+                scene.faces[so.first_face + half + k].twin = so.first_face + k;
+            }
+        }
     }
     if (scene.emitter_count() == 0) fail(file, "objects", "no emitter: no face uses a material with emission > 0");
 

@@ -72,9 +72,9 @@ bool sample_source(const SpecularSource& s, int i, int j, RgbF& value) {
 
 }  // namespace
 
-void gather_specular(const Scene& scene, const DirectionSet& dirs,
-                     const std::vector<Mat3>& rotations, int N, int m,
-                     const std::vector<SpecularSource>& sources, RadianceMaps& maps) {
+Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
+                    const std::vector<Mat3>& rotations, int N, int m,
+                    const std::vector<SpecularSource>& sources, RadianceMaps& maps) {
     // Invert: per target direction, (face, source, weight) in source order.
     std::vector<std::vector<TargetRef>> by_direction(dirs.size());
     for (uint32_t s = 0; s < sources.size(); ++s)
@@ -86,6 +86,7 @@ void gather_specular(const Scene& scene, const DirectionSet& dirs,
                          [](const TargetRef& a, const TargetRef& b) { return a.face < b.face; });
 
     const double ray_area = 4.0 / (double(N) * N);
+    std::vector<Rgb> rounding(dirs.size(), Rgb(0.0));  // per target direction
     parallel_for(0, dirs.size(), [&](long d) {
         const auto& refs = by_direction[d];
         if (refs.empty()) return;
@@ -137,10 +138,17 @@ void gather_specular(const Scene& scene, const DirectionSet& dirs,
                     }
                 }
             }
-            for (size_t k = 0; k < points.size(); ++k)
-                maps.unshot_next[base + k] = RgbF(acc[k]);
+            for (size_t k = 0; k < points.size(); ++k) {
+                const RgbF before = maps.unshot_next[base + k];
+                maps.unshot_next[base + k] += RgbF(acc[k]);
+                // What single precision kept of the deposit, against what was deposited.
+                rounding[d] += (acc[k] - (Rgb(maps.unshot_next[base + k]) - Rgb(before))) * beam;
+            }
         }
     });
+    Rgb total(0.0);
+    for (const Rgb& r : rounding) total += r;
+    return total;
 }
 
 }  // namespace vlf

@@ -46,10 +46,13 @@ int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incomi
                      const std::vector<uint32_t>& coverage, size_t face_count,
                      std::array<int, 3>& dir, std::array<double, 3>& weight);
 
-// Phase 2: gathers every source into maps.unshot_next (which must be zeroed before).
+// Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
+// zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).
 // `rotations[d]` is the rotation of PSF d; `ray_area` = (2/N)^2.
-void gather_specular(const Scene& scene, const DirectionSet& dirs,
-                     const std::vector<Mat3>& rotations, int resolution, int tile,
-                     const std::vector<SpecularSource>& sources, RadianceMaps& maps);
+// Returns the power that single-precision storage rounded away (deposited minus stored,
+// either sign), so the ledger can book it.
+Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
+                    const std::vector<Mat3>& rotations, int resolution, int tile,
+                    const std::vector<SpecularSource>& sources, RadianceMaps& maps);
 
 }  // namespace vlf

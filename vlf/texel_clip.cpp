@@ -31,6 +31,14 @@ template <int Cap>
 struct SmallPoly {
     Vec2 v[Cap];
     int n = 0;
+    SmallPoly() = default;
+    // Copies only the vertices in use (the capacity is far larger than the common case).
+    SmallPoly(const SmallPoly& o) : n(o.n) { std::copy(o.v, o.v + o.n, v); }
+    SmallPoly& operator=(const SmallPoly& o) {
+        n = o.n;
+        std::copy(o.v, o.v + o.n, v);
+        return *this;
+    }
     void clear() { n = 0; }
     void push(const Vec2& p) { v[n++] = p; }
     int size() const { return n; }
@@ -108,26 +116,34 @@ void slice_to_grid(const P& poly, int width, int height, std::vector<TexelOverla
     }
     // Slice column by column, then each column row by row: every cut is made once and
     // its crossing points are shared by both sides. The last column (row) of the range
-    // keeps the remainder, which is also what makes the rim cells reach outwards.
-    P rest = poly, col, next, cell, rrest, rnext;
+    // keeps the remainder, which is also what makes the rim cells reach outwards. The
+    // remainders alternate between two buffers (no copies).
+    P col, cell, ca, cb, ra, rb;
+    const P* rest = &poly;
+    P* rest_out = &ca;
+    P* rest_spare = &cb;
     for (int i = i0; i <= i1; ++i) {
+        const P* column = rest;
         if (i < i1) {
-            split<0>(rest, double(i + 1), col, next);
-            rest = next;
-        } else {
-            col = rest;
+            split<0>(*rest, double(i + 1), col, *rest_out);
+            rest = rest_out;
+            std::swap(rest_out, rest_spare);
+            column = &col;
         }
-        if (col.size() < 3) continue;
-        rrest = col;
+        if (column->size() < 3) continue;
+        const P* rrest = column;
+        P* row_out = &ra;
+        P* row_spare = &rb;
         for (int j = j0; j <= j1; ++j) {
+            const P* c = rrest;
             if (j < j1) {
-                split<1>(rrest, double(j + 1), cell, rnext);
-                rrest = rnext;
-            } else {
-                cell = rrest;
+                split<1>(*rrest, double(j + 1), cell, *row_out);
+                rrest = row_out;
+                std::swap(row_out, row_spare);
+                c = &cell;
             }
-            if (cell.size() < 3) continue;
-            const double a = area(cell);
+            if (c->size() < 3) continue;
+            const double a = area(*c);
             if (a > 0) out.push_back({static_cast<uint32_t>(j * width + i), static_cast<float>(a)});
         }
     }
@@ -166,30 +182,33 @@ inline Vec2 reflect(const Vec2& p, const Vec2& a, const Vec2& e) {
     return a + along - (d - along);
 }
 
-// Appends the overlaps of (the quad ∩ polygon) plus (each part of the quad beyond an edge,
-// mirrored back across that edge, ∩ polygon) with the grid. See the header for why.
+// Mirror images of a spilled part fold back at most this often (a part beyond two edges
+// near a corner needs two reflections, as an image source does in a wedge).
+constexpr int kMaxFolds = 3;
+
+// Appends the overlaps of (piece ∩ polygon) with the grid; each part of the piece beyond an
+// edge (and inside the edges before it) is mirrored back across that edge and folded in
+// the same way. See clip_footprint_to_grid in the header for why.
 template <class P>
-void footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
-                       int height, std::vector<TexelOverlap>& out) {
+void fold_to_grid(const P& piece, int depth, const std::vector<Vec2>& polygon, int width,
+                  int height, std::vector<TexelOverlap>& out) {
     const int n = static_cast<int>(polygon.size());
-    P inside, left, right, spill, tmp;
-    for (int k = 0; k < 4; ++k) inside.push(quad[k]);
-    for (int e = 0; e < n && inside.size() >= 3; ++e) {
+    P ia, ib, right, image;
+    const P* inside = &piece;
+    P* inside_out = &ia;
+    P* inside_spare = &ib;
+    for (int e = 0; e < n && inside->size() >= 3; ++e) {
         const Vec2& a = polygon[e];
         const Vec2& b = polygon[(e + 1) % n];
-        split_by_edge(inside, a, b, left, right);
-        std::swap(inside, left);
-        if (right.size() < 3 || area(right) <= 0.0) continue;
-        // The part beyond edge e (and inside the edges before it), mirrored into the face.
-        spill.clear();
-        for (int k = 0; k < right.size(); ++k) spill.push(reflect(right[k], a, b - a));
-        for (int f = 0; f < n && spill.size() >= 3; ++f) {
-            split_by_edge(spill, polygon[f], polygon[(f + 1) % n], left, tmp);
-            std::swap(spill, left);
-        }
-        if (spill.size() >= 3) slice_to_grid(spill, width, height, out);
+        split_by_edge(*inside, a, b, *inside_out, right);
+        inside = inside_out;
+        std::swap(inside_out, inside_spare);
+        if (depth >= kMaxFolds || right.size() < 3 || area(right) <= 0.0) continue;
+        image.clear();
+        for (int k = 0; k < right.size(); ++k) image.push(reflect(right[k], a, b - a));
+        fold_to_grid(image, depth + 1, polygon, width, height, out);
     }
-    if (inside.size() >= 3) slice_to_grid(inside, width, height, out);
+    if (inside->size() >= 3) slice_to_grid(*inside, width, height, out);
 }
 
 }  // namespace
@@ -215,11 +234,17 @@ int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon,
             whole = whole && d.x * (quad[k].y - a.y) - d.y * (quad[k].x - a.x) >= 0;
     }
     if (whole) return clip_quad_to_grid(quad, width, height, out);
-    // A quad (4) cut by n edges, mirrored pieces cut by n edges, then by grid lines (+8).
-    if (n <= 8)
-        footprint_to_grid<SmallPoly<4 + 2 * 8 + 8>>(quad, polygon, width, height, out);
-    else
-        footprint_to_grid<BigPoly>(quad, polygon, width, height, out);
+    // A quad (4) cut by n edges once per fold, then by grid lines (+8).
+    constexpr int kSmallEdges = 8;
+    if (n <= kSmallEdges) {
+        SmallPoly<4 + (kMaxFolds + 1) * kSmallEdges + 8> q;
+        for (int k = 0; k < 4; ++k) q.push(quad[k]);
+        fold_to_grid(q, 0, polygon, width, height, out);
+    } else {
+        BigPoly q;
+        for (int k = 0; k < 4; ++k) q.push(quad[k]);
+        fold_to_grid(q, 0, polygon, width, height, out);
+    }
     // The same texel can be reached by the direct part and by mirrored parts: merge.
     for (size_t i = before; i < out.size(); ++i)
         for (size_t j = i + 1; j < out.size();) {

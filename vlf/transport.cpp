@@ -51,8 +51,9 @@ struct Scratch {
 struct ChunkResult {
     std::vector<Rgb> next;
     Rgb absorbed{0.0}, escaped{0.0};
+    NumericalLoss lost;
     std::vector<SpecularSource> sources;
-    double rasterise = 0, clipping = 0, exchange = 0;
+    double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
 };
 
 }  // namespace
@@ -90,6 +91,7 @@ struct GeometryInputs {
     const Scene& scene;
     const TextureMaps& tex;
     const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
+    double seal_gap;  // exchange.hpp kSealed
 };
 
 void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
@@ -153,7 +155,9 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
     g.partner.assign(S, kEscaped);
     for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
         const Tile& tile = psf.tiles[ti];
-        build_exchange(scene, psf, tile, x, xs);
+        // A ray shut within a ray spacing of the radiance grid by the back of another
+        // surface is sealed: diffuse senders leave it out (exchange.hpp).
+        build_exchange(scene, psf, tile, x, xs, in.seal_gap);
         const uint32_t tb = g.tile_base[ti];
         for (const Fragment& fr : tile.fragments)
             for (uint32_t k = 0; k < fr.covered; ++k) {
@@ -224,10 +228,26 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     // Super-sampled exchange (§5): every pass runs on an s-times finer ray grid; the
     // directional radiance maps stay on the N x N grid.
     const int s = params.supersample;
-    m_send_norm = s == 1 ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
-                         : send_normalisers(scene, m_dirs, m_rot,
-                                            measure_coverage(scene, m_rot, params.field.resolution * s,
-                                                             params.field.tile * s));
+    const int P = params.perturbations;
+    m_passes.resize(size_t(P) + 1);
+    for (int p = 0; p <= P; ++p) {
+        Pass& pass = m_passes[p];
+        if (p == 0) {
+            pass.rotations = m_rot;
+        } else {
+            // VLF §5: the whole direction set rotated by a stratified random rotation
+            // inside the mean solid angle (one set per run, perturbation.hpp).
+            const Mat3 r = perturbation_rotation(m_dirs, params.seed, p, P);
+            pass.rotations.resize(l);
+            for (int d = 0; d < l; ++d) pass.rotations[d] = rotation_to_z(r * m_dirs.direction(d));
+        }
+        pass.send_norm =
+            p == 0 && s == 1
+                ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
+                : send_normalisers(scene, m_dirs, pass.rotations,
+                                   measure_coverage(scene, pass.rotations,
+                                                    params.field.resolution * s, params.field.tile * s));
+    }
     m_tex = TextureMaps(scene);
 
     const size_t nf = scene.faces.size();
@@ -246,7 +266,8 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_deferred.assign(nf, 0);
     m_polygons.resize(nf);
     for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
-    m_cache.resize(static_cast<size_t>(l));
+    m_pools = build_rim_pools(scene, m_tex);
+    m_cache.resize(static_cast<size_t>(l) * m_passes.size());
     m_timings.setup = since(t0);
 }
 
@@ -313,9 +334,11 @@ void Transport::choose_deferred(bool last) {
             m_deferred[f.id] = 1;
 }
 
-void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<double>& send_norm,
-                         const std::vector<uint32_t>& coverage, double share,
-                         bool true_directions, LedgerEntry& e) {
+void Transport::run_pass(int pass, double share) {
+    const auto pass_start = Clock::now();
+    const std::vector<Mat3>& rotations = m_passes[pass].rotations;
+    const std::vector<double>& send_norm = m_passes[pass].send_norm;
+    const bool true_directions = pass == 0;
     const Scene& scene = m_scene;
     const int s = m_params.supersample;
     const int Nc = m_params.field.resolution, mc = m_params.field.tile;  // radiance-map grid
@@ -324,17 +347,25 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
     const size_t nf = scene.faces.size();
     const double ray_area = 4.0 / (double(N) * N);
 
-    // Which faces send diffuse power this pass.
+    // Which faces send diffuse power this pass, how much, and their unshot exitance.
     std::vector<uint8_t> sends(nf, 0);
+    std::vector<Rgb> face_unshot(nf, Rgb(0.0));
+    std::vector<Rgb> exitance(m_tex.texels(), Rgb(0.0));
     for (size_t f = 0; f < nf; ++f) {
         if (m_deferred[f]) continue;
-        const Rgb u = TextureMaps::sum(m_tex.current, m_tex.begin(int(f)), m_tex.count(int(f)));
+        const size_t tb = m_tex.begin(int(f));
+        const Rgb u = TextureMaps::sum(m_tex.current, tb, m_tex.count(int(f)));
         sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
+        if (!sends[f]) continue;
+        face_unshot[f] = u;
+        const Face& face = scene.faces[f];
+        for (size_t t = 0; t < m_tex.count(int(f)); ++t)
+            if (face.texel_area[t] > 0.0) exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
     }
-    const GeometryInputs inputs{scene, m_tex, m_polygons};
-    // Geometry of the true directions is kept across cycles while it fits the budget; the
-    // rest is rebuilt each cycle (identical either way, so the budget never changes a map).
-    std::vector<std::unique_ptr<Geometry>>* cache = true_directions ? &m_cache : nullptr;
+    const GeometryInputs inputs{scene, m_tex, m_polygons, 2.0 / Nc};
+    // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
+    // cycle (identical either way, so the budget never changes a map).
+    std::unique_ptr<Geometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
     const int64_t budget = m_params.cache_budget_mib << 20;
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
@@ -352,20 +383,20 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                 if (m_progress != nullptr) m_progress->advance();
                 const Mat3& rot = rotations[d];
                 const Geometry* gp = nullptr;
-                if (cache != nullptr && (*cache)[d]) {
-                    gp = (*cache)[d].get();
+                if (cache[d]) {
+                    gp = cache[d].get();
                 } else {
                     if (!w.local) w.local = std::make_unique<Geometry>();
                     build_geometry(inputs, rot, d, N, m, *w.local, w.x, w.xs, res.rasterise,
                                    res.clipping, res.exchange);
                     gp = w.local.get();
-                    if (cache != nullptr && budget > 0) {
+                    if (budget > 0) {
                         // Kept as an exact-size copy: the scratch keeps its grown capacity for
                         // the next direction, and the cache holds no slack.
                         const int64_t b = w.local->bytes();
                         if (m_cache_used.fetch_add(b) + b <= budget) {
-                            (*cache)[d] = std::make_unique<Geometry>(*w.local);
-                            gp = (*cache)[d].get();
+                            cache[d] = std::make_unique<Geometry>(*w.local);
+                            gp = cache[d].get();
                         } else {
                             m_cache_used.fetch_sub(b);
                         }
@@ -385,6 +416,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                 for (size_t f = 0; f < nf; ++f) {
                     const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
                     const Face& face = scene.faces[f];
+                    const size_t tb = m_tex.begin(int(f));
                     const bool spec_store = true_directions && m_spec.stores(int(f));
                     const bool other_store = true_directions && m_other.stores(int(f));
                     if (fb == fe) {
@@ -394,37 +426,47 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                             const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
                             const uint64_t mb = m_spec.begin(d, int(f));
                             for (uint64_t k = 0; k < m_spec.count(d, int(f)); ++k)
-                                res.absorbed += Rgb(m_spec.unshot[mb + k]) * beam_c;
+                                res.lost.subpixel_mirror += Rgb(m_spec.unshot[mb + k]) * beam_c;
                         }
                         continue;
                     }
                     if (sends[f]) {
+                        // Each ray samples the face's unshot exitance under its footprint
+                        // (the weights are unbiased at the rim, texel_clip.hpp); the rays are
+                        // then scaled so the face sends exactly its share into this
+                        // direction, wd = cos(theta_d) Delta_d / sum (VLF §4.4 eq. (3)).
+                        // Sampling exitance rather than splitting each texel's power keeps a
+                        // uniform field uniform at the rim (docs/propagation.md §3).
                         const double nz = std::abs((rot * face.normal).z);
                         const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
-                        const size_t tb = m_tex.begin(int(f)), tc = m_tex.count(int(f));
-                        w.colsum.assign(tc, 0.0);
+                        Rgb sampled(0.0);
                         uint32_t rays = 0;
                         for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            for (uint32_t k = 0; k < fr.covered; ++k)
-                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
-                                    w.colsum[g.ov[o].texel] += g.ov[o].area;
-                            rays += fr.covered;
-                        });
-                        // Texels whose beams miss every covered ray here (slivers at the rim)
-                        // still send their share: spread evenly over the face's rays.
-                        Rgb orphan(0.0);
-                        for (size_t t = 0; t < tc; ++t)
-                            if (w.colsum[t] <= 0.0) orphan += m_tex.current[tb + t];
-                        const Rgb even = orphan * (wd / rays);
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                             for (uint32_t k = 0; k < fr.covered; ++k) {
-                                Rgb p = even;
+                                if (g.partner[base + k] == kSealed) continue;
+                                ++rays;
+                                Rgb p(0.0);
+                                double rowsum = 0.0;
                                 for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o) {
-                                    const TexelOverlap& ov = g.ov[o];
-                                    p += m_tex.current[tb + ov.texel] * (wd * ov.area / w.colsum[ov.texel]);
+                                    p += exitance[tb + g.ov[o].texel] * double(g.ov[o].area);
+                                    rowsum += g.ov[o].area;
                                 }
-                                w.out[base + k] += p;
+                                if (rowsum > 0.0) p /= rowsum;
+                                w.out[base + k] = p;
+                                sampled += p;
                             }
+                        });
+                        const Rgb target = face_unshot[f] * wd;
+                        Rgb scale(0.0), even(0.0);
+                        for (int c = 0; c < 3; ++c) {
+                            if (sampled[c] > 0.0) scale[c] = target[c] / sampled[c];
+                            else if (rays > 0) even[c] = target[c] / rays;  // no ray sees the unshot texels
+                            else res.lost.sealed[c] += target[c];  // every ray is shut
+                        }
+                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            for (uint32_t k = 0; k < fr.covered; ++k)
+                                if (g.partner[base + k] != kSealed)
+                                    w.out[base + k] = w.out[base + k] * scale + even;
                         });
                     }
                     if ((spec_store || other_store) && s == 1) {
@@ -487,7 +529,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                             });
                             for (int c = 0; c < 3; ++c) {
                                 if (reach[c] > 0.0) scale[c] = unshot[c] / reach[c];
-                                else res.absorbed[c] += unshot[c];  // no fine ray carries it
+                                else res.lost.subpixel_mirror[c] += unshot[c];  // no fine ray carries it
                             }
                         }
                         w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
@@ -515,11 +557,13 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         w.in[slot] = w.out[p];
                     } else if (p == kEscaped) {
                         res.escaped += w.out[slot];
+                    } else if (p == kSealed) {
+                        res.lost.sealed += w.out[slot];  // a mirror's light into a shut ray
                     } else {
-                        res.absorbed += w.out[slot];  // onto a back face
+                        res.lost.back_face += w.out[slot];
                     }
                 }
-                res.exchange += since(t0);
+                res.transfer += since(t0);
 
                 // 4. Receivers.
                 t0 = Clock::now();
@@ -554,7 +598,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                                 for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
                                     rowsum += g.ov[o].area;
                                 if (rowsum <= 0.0) {
-                                    res.absorbed += p;  // degenerate footprint
+                                    res.lost.empty_footprint += p;
                                     continue;
                                 }
                                 for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
@@ -573,7 +617,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         src.targets = specular_targets(m_dirs, face, incoming, m_coverage, nf,
                                                        src.target_direction, src.target_weight);
                         if (src.targets == 0) {
-                            res.absorbed += src.power;  // grazing: no PSF can carry it
+                            res.lost.grazing_mirror += src.power;  // no PSF can carry it
                             continue;
                         }
                         src.i0 = imin;
@@ -593,7 +637,7 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
                         res.sources.push_back(std::move(src));
                     }
                 }
-                res.exchange += since(t0);
+                res.transfer += since(t0);
             }
         });
 
@@ -604,17 +648,19 @@ void Transport::run_pass(const std::vector<Mat3>& rotations, const std::vector<d
             for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
             m_running.absorbed += c.absorbed;
             m_running.escaped += c.escaped;
+            m_running.lost += c.lost;
             m_timings.rasterise += c.rasterise;
             m_timings.clipping += c.clipping;
             m_timings.exchange += c.exchange;
+            m_timings.transfer += c.transfer;
             for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
         }
     }
+    m_timings.passes += since(pass_start);
     const auto t0 = Clock::now();
     if (!sources.empty())
-        gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
+        m_running.lost.rounding += gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
     m_timings.specular += since(t0);
-    (void)e;
 }
 
 void Transport::fold_unshot_into_total() {
@@ -622,32 +668,23 @@ void Transport::fold_unshot_into_total() {
 }
 
 void Transport::run_cycle(bool last) {
+    auto t0 = Clock::now();
     LedgerEntry e;
     e.cycle = cycles_done() + 1;
     if (e.cycle == 1) load_emission(m_running);
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
+    m_timings.bookkeeping += since(t0);
 
-    const int P = m_params.perturbations;
-    const double share = 1.0 / (P + 1);
-    run_pass(m_rot, m_send_norm, m_coverage, share, true, e);
-    for (int p = 1; p <= P; ++p) {
-        // VLF §5: the whole direction set rotated by a stratified random rotation inside
-        // the mean solid angle; diffuse transfers only, no L_T update.
-        const Mat3 r = perturbation_rotation(m_dirs, m_params.seed, e.cycle, p, P);
-        std::vector<Mat3> rots(m_rot.size());
-        for (size_t d = 0; d < rots.size(); ++d) rots[d] = rotation_to_z(r * m_dirs.direction(int(d)));
-        const int ss = m_params.supersample;
-        const auto cov = measure_coverage(m_scene, rots, m_params.field.resolution * ss,
-                                          m_params.field.tile * ss);
-        const auto norm = send_normalisers(m_scene, m_dirs, rots, cov);
-        run_pass(rots, norm, cov, share, false, e);
-    }
+    const double share = 1.0 / double(m_passes.size());
+    for (int p = 0; p < int(m_passes.size()); ++p) run_pass(p, share);
 
-    // End of cycle: filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
-    auto t0 = Clock::now();
+    // End of cycle: pool, filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
+    t0 = Clock::now();
+    pool_rim_texels(m_pools, m_scene, m_tex, m_tex.next);
     if (m_params.filter_sigma > 0.0) gaussian_filter_next(m_scene, m_tex, m_params.filter_sigma);
     m_timings.filter += since(t0);
+    t0 = Clock::now();
     Rgb unshot(0.0), deferred(0.0);
     for (const Face& f : m_scene.faces) {
         const size_t b = m_tex.begin(f.id), n = m_tex.count(f.id);
@@ -676,9 +713,11 @@ void Transport::run_cycle(bool last) {
     e.emitted = m_running.emitted * u;
     e.absorbed = m_running.absorbed * u;
     e.escaped = m_running.escaped * u;
+    e.lost = m_running.lost * u;
     e.unshot = unshot * u;
     e.deferred = deferred * u;
     m_ledger.push_back(e);
+    m_timings.bookkeeping += since(t0);
 }
 
 }  // namespace vlf

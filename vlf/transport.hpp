@@ -30,6 +30,7 @@
 #include "vlf/ledger.hpp"
 #include "vlf/parameters.hpp"
 #include "vlf/radiance_maps.hpp"
+#include "vlf/rim_pools.hpp"
 #include "vlf/scene.hpp"
 #include "vlf/texture_maps.hpp"
 
@@ -45,8 +46,17 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
 
 struct DirectionGeometry;  // per-direction PSF, overlaps and exchange partners (transport.cpp)
 
+// Wall-clock seconds of each phase of the propagation (they add up to the transport's
+// wall time), and the CPU seconds, summed over worker threads, inside the passes.
 struct TransportTimings {
-    double setup = 0, rasterise = 0, clipping = 0, exchange = 0, specular = 0, filter = 0;
+    double setup = 0;        // directions, rotations, coverage, normalisers, maps, pools
+    double passes = 0;       // the true and perturbed passes over all directions
+    double specular = 0;     // gathering reflected light into the mirrors' unshot maps
+    double filter = 0;       // rim pooling and the Gaussian filter of P^N
+    double bookkeeping = 0;  // deferral choice, map swaps, the ledger
+    // CPU seconds inside the passes, by step.
+    double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
+    double wall() const { return setup + passes + specular + filter + bookkeeping; }
 };
 
 class Transport {
@@ -64,9 +74,7 @@ public:
     // Advanced by one for every direction of every pass processed (may be null).
     void set_progress(class Progress* progress) { m_progress = progress; }
     // Directions processed per cycle (all passes): the unit of progress.
-    int64_t work_per_cycle() const {
-        return int64_t(m_dirs.size()) * (m_params.perturbations + 1);
-    }
+    int64_t work_per_cycle() const { return int64_t(m_dirs.size()) * int64_t(m_passes.size()); }
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }
     const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
 
@@ -93,28 +101,34 @@ public:
 private:
     void load_emission(LedgerEntry& e);
     void choose_deferred(bool last);
-    void run_pass(const std::vector<Mat3>& rotations, const std::vector<double>& send_norm,
-                  const std::vector<uint32_t>& coverage, double share, bool true_directions,
-                  LedgerEntry& e);
+    // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
+    void run_pass(int pass, double share);
+
+    // The direction set of one pass: rotations to +z and the diffuse send normalisers.
+    struct Pass {
+        std::vector<Mat3> rotations;
+        std::vector<double> send_norm;  // per face: sum_d |n . omega_d| Delta_d, covered d
+    };
 
     const Scene& m_scene;
     PropagateParams m_params;
     DirectionSet m_dirs;
-    std::vector<Mat3> m_rot;             // per direction
-    std::vector<uint32_t> m_coverage;    // d * faces + f: covered rays
-    std::vector<double> m_send_norm;     // per face: sum_d |n . omega_d| Delta_d over covered d
+    std::vector<Mat3> m_rot;             // per direction (= m_passes[0].rotations)
+    std::vector<uint32_t> m_coverage;    // d * faces + f: covered rays on the N x N grid
+    std::vector<Pass> m_passes;          // the true directions, then each perturbation
     TextureMaps m_tex;
     RadianceMaps m_spec;                 // L_U, L_T of specular faces
     RadianceMaps m_other;                // L_T of the other faces (--store-all-rays)
     std::vector<uint8_t> m_deferred;     // per face, this cycle
     std::vector<std::vector<Vec2>> m_polygons;  // per face: its polygon in texel coordinates
+    RimPools m_pools;                    // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;
     LedgerEntry m_running;               // cumulative absorbed/escaped/emitted
     double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
     TransportTimings m_timings;
     std::atomic<int64_t> m_cache_used{0};  // bytes of geometry in m_cache
     class Progress* m_progress = nullptr;
-    std::vector<std::unique_ptr<DirectionGeometry>> m_cache;
+    std::vector<std::unique_ptr<DirectionGeometry>> m_cache;  // pass * l + d
 };
 
 }  // namespace vlf
