@@ -5,7 +5,7 @@ BUILD       ?= build
 ASAN_BUILD  ?= build-asan
 JOBS        ?= $(shell nproc)
 SCENE       ?= scenes/cornell-mirrors.json
-DEMO_ARGS   ?= --directions 513 --resolution 64 --tile 8 --cycles 4 --perturbations 3 --filter-sigma 0.7
+DEMO_ARGS   ?= --quality preview
 OUT         ?= out
 ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli
 

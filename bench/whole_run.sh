@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Times whole propagation runs: runs `propagate SCENE ARGS...` REPEAT times (default 3)
-# and prints the median of each phase of the JSON report (wall seconds for total; phase
-# times are CPU seconds summed over worker threads) and the peak RSS.
+# and prints the median of each phase of the JSON report (wall seconds per phase, which add
+# up to the total; CPU seconds summed over worker threads inside the passes) and the peak
+# RSS.
 # Usage: bench/whole_run.sh [-r REPEAT] [-b BUILD] SCENE [propagate options...]
 set -euo pipefail
 repeat=3

@@ -1,20 +1,21 @@
 // propagate — builds the virtual light field of a scene and propagates light through it.
 // Thin: options into vlf::PropagateParams, then the library does the work.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <string>
 
+#include "vlf/bake.hpp"
 #include "vlf/cli_main.hpp"
 #include "vlf/error.hpp"
-#include "vlf/bake.hpp"
 #include "vlf/light_field.hpp"
-#include "vlf/progress.hpp"
-#include "vlf/propagation.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/parameters.hpp"
+#include "vlf/progress.hpp"
+#include "vlf/propagation.hpp"
+#include "vlf/quality.hpp"
 #include "vlf/report.hpp"
 #include "vlf/scene_loader.hpp"
 
@@ -25,6 +26,7 @@ struct Options {
     std::string output;
     std::string report;
     std::string scheme = "octahedral";
+    std::string quality;
     bool dry_run = false;
     bool quiet = false;
     bool no_deferred = false;
@@ -32,12 +34,37 @@ struct Options {
     vlf::PropagateParams params;
 };
 
-int run(const Options& o) {
+// The preset of --quality, with every option the user gave explicitly on top of it.
+vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
+    vlf::PropagateParams p = o.params;
+    if (o.quality.empty()) return p;
+    const vlf::PropagateParams preset = vlf::quality_params(vlf::quality_from_string(o.quality));
+    auto given = [&](const char* name) { return app.count(name) > 0; };
+    vlf::PropagateParams q = preset;
+    if (given("--directions")) q.field.directions = p.field.directions;
+    if (given("--resolution")) q.field.resolution = p.field.resolution;
+    if (given("--tile")) q.field.tile = p.field.tile;
+    if (given("--texel-size")) q.texel_size = p.texel_size;
+    if (given("--texel-divisions")) q.texel_divisions = p.texel_divisions;
+    if (given("--cycles")) q.cycles = p.cycles;
+    if (given("--stop-unshot")) q.stop_unshot = p.stop_unshot;
+    if (given("--perturbations")) q.perturbations = p.perturbations;
+    if (given("--filter-sigma")) q.filter_sigma = p.filter_sigma;
+    if (given("--supersample")) q.supersample = p.supersample;
+    q.threads = p.threads;
+    q.store_all_rays = p.store_all_rays;
+    q.cache_budget_mib = p.cache_budget_mib;
+    q.seed = p.seed;
+    return q;
+}
+
+int run(Options o, const CLI::App& app) {
     // What the process holds before any scene data: code, libraries, the runtime. The
     // report's peak_rss minus this is what the propagation itself needed.
     const int64_t startup_rss = vlf::current_rss_bytes();
-    vlf::PropagateParams p = o.params;
-    p.field.scheme = vlf::direction_scheme_from_string(o.scheme);
+    vlf::PropagateParams p = with_preset(o, app);
+    if (app.count("--scheme") > 0 || o.quality.empty())
+        p.field.scheme = vlf::direction_scheme_from_string(o.scheme);
     p.deferred = !o.no_deferred;
     p.resample = !o.no_resample;
     vlf::validate(p);
@@ -48,6 +75,7 @@ int run(const Options& o) {
 
     vlf::LoadOptions load;
     load.texel_size_user = p.texel_size;
+    load.texel_divisions = p.texel_divisions;
     const vlf::Scene scene = vlf::load_scene(o.scene, load);
     vlf::ThreadLimit limit(p.threads);
     std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
@@ -90,12 +118,13 @@ int run(const Options& o) {
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
     if (!o.quiet)
-        std::printf("memory     peak %.1f MiB; geometry cache %.1f MiB for %d of %d directions "
-                    "(--cache-budget %lld)\n",
-                    double(vlf::peak_rss_bytes()) / (1 << 20),
-                    double(run.transport->geometry_cache_bytes()) / (1 << 20),
-                    run.transport->cached_directions(), run.transport->directions().size(),
-                    static_cast<long long>(p.cache_budget_mib));
+        std::printf(
+            "memory     peak %.1f MiB; geometry cache %.1f MiB for %d of %d directions "
+            "(--cache-budget %lld)\n",
+            double(vlf::peak_rss_bytes()) / (1 << 20),
+            double(run.transport->geometry_cache_bytes()) / (1 << 20),
+            run.transport->cached_directions(), run.transport->directions().size(),
+            static_cast<long long>(p.cache_budget_mib));
     if (!o.report.empty()) std::printf("report     %s\n", o.report.c_str());
     return 0;
 }
@@ -112,6 +141,9 @@ int main(int argc, char** argv) {
     app.add_flag("--dry-run", o.dry_run,
                  "Load and rasterise only: print the scene summary and light-field statistics");
     app.add_option("--report", o.report, "Also write the summary/statistics/ledger as JSON");
+    app.add_option("--quality", o.quality,
+                   "Preset: draft, preview, final or reference (field, stop rule, refinements, "
+                   "texel density; options given explicitly win)");
     app.add_option("-l,--directions", o.params.field.directions,
                    "Line directions l: 9, 33, 129, 513, 2049 or 8193")
         ->capture_default_str();
@@ -123,7 +155,17 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--texel-size", o.params.texel_size,
                    "Texel edge in scene units (default: settings.texel_size or radius/32)");
-    app.add_option("-c,--cycles", o.params.cycles, "Propagation cycles")->capture_default_str();
+    app.add_option("--texel-divisions", o.params.texel_divisions,
+                   "Default texel edge = scene radius / this, when neither --texel-size nor "
+                   "the scene gives one")
+        ->capture_default_str();
+    app.add_option("-c,--cycles", o.params.cycles,
+                   "Propagation cycles (with --stop-unshot: the most cycles)")
+        ->capture_default_str();
+    app.add_option("--stop-unshot", o.params.stop_unshot,
+                   "Stop once less than this fraction of the emitted power is left to shoot "
+                   "(0 = run all cycles)")
+        ->capture_default_str();
     app.add_option("-t,--threads", o.params.threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
     app.add_flag("--no-deferred", o.no_deferred, "Disable deferred propagation (VLF §4.5)");
@@ -144,8 +186,9 @@ int main(int argc, char** argv) {
                    "MiB of per-direction geometry kept across cycles (0 = rebuild every "
                    "cycle: least memory); speed and memory only, the bake is the same")
         ->capture_default_str();
-    app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")->capture_default_str();
+    app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")
+        ->capture_default_str();
     app.add_flag("-q,--quiet", o.quiet, "No progress bar");
 
-    return vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o); });
+    return vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o, app); });
 }

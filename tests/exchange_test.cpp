@@ -1,14 +1,15 @@
 // Exchange buffers: watertight enclosures pair every ray, X(P)=Q <=> X(Q)=P, and the
 // depth order decides who sees whom.
+#include "vlf/exchange.hpp"
+
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <array>
+#include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "test_util.hpp"
 #include "vlf/direction_set.hpp"
-#include "vlf/exchange.hpp"
 #include "vlf/psf.hpp"
 #include "vlf/scene_loader.hpp"
 
@@ -42,10 +43,9 @@ PairingTally tally_pairings(const Scene& scene, int l, int N, int m) {
                         ++t.paired;
                         const Fragment& g = tile.fragments[q];
                         const uint32_t kq = x.partner_ray[f.ray_offset + k];
-                        const bool symmetric = kq < g.covered &&
-                                               x.partner[g.ray_offset + kq] == int32_t(fi) &&
-                                               x.partner_ray[g.ray_offset + kq] == k &&
-                                               g.facing == -f.facing;
+                        const bool symmetric =
+                            kq < g.covered && x.partner[g.ray_offset + kq] == int32_t(fi) &&
+                            x.partner_ray[g.ray_offset + kq] == k && g.facing == -f.facing;
                         if (!symmetric) ++t.asymmetric;
                     }
                 }
@@ -72,19 +72,23 @@ Scene closed_cornell() {
     nlohmann::json j = nlohmann::json::parse(test::read_text(path));
     // Front wall at z = 0, facing +z (into the room), matching the floor, ceiling and side
     // walls' front edges exactly.
-    j["objects"].push_back({{"type", "polygon"},
-                            {"name", "front wall"},
-                            {"material", j["objects"][0]["material"]},
-                            {"vertices", {{556.0, 548.8, 0.0}, {0.0, 548.8, 0.0}, {0.0, 0.0, 0.0},
-                                          {552.8, 0.0, 0.0}}}});
+    j["objects"].push_back(
+        {{"type", "polygon"},
+         {"name", "front wall"},
+         {"material", j["objects"][0]["material"]},
+         {"vertices",
+          {{556.0, 548.8, 0.0}, {0.0, 548.8, 0.0}, {0.0, 0.0, 0.0}, {552.8, 0.0, 0.0}}}});
     // The lamp hangs 0.1 mm under the ceiling, one-sided: close it into a solid with a
     // housing just above it facing the ceiling (as a real fixture is), so the ceiling over
     // the lamp does not see the lamp's back.
     j["objects"].push_back({{"type", "polygon"},
                             {"name", "lamp housing"},
                             {"material", j["objects"][0]["material"]},
-                            {"vertices", {{213.0, 548.75, 227.0}, {213.0, 548.75, 332.0},
-                                          {343.0, 548.75, 332.0}, {343.0, 548.75, 227.0}}}});
+                            {"vertices",
+                             {{213.0, 548.75, 227.0},
+                              {213.0, 548.75, 332.0},
+                              {343.0, 548.75, 332.0},
+                              {343.0, 548.75, 227.0}}}});
     const double y0 = 548.7, y1 = 548.75;
     const std::vector<std::vector<std::array<double, 3>>> sides = {
         {{213, y1, 227}, {343, y1, 227}, {343, y0, 227}, {213, y0, 227}},   // facing -z
@@ -92,9 +96,8 @@ Scene closed_cornell() {
         {{213, y0, 332}, {213, y1, 332}, {213, y1, 227}, {213, y0, 227}},   // facing -x
         {{343, y1, 227}, {343, y1, 332}, {343, y0, 332}, {343, y0, 227}}};  // facing +x
     for (const auto& v : sides)
-        j["objects"].push_back({{"type", "polygon"},
-                                {"material", j["objects"][0]["material"]},
-                                {"vertices", v}});
+        j["objects"].push_back(
+            {{"type", "polygon"}, {"material", j["objects"][0]["material"]}, {"vertices", v}});
     return load_scene_from_string(j.dump(), "cornell+front.json", test::source_path("scenes"));
 }
 
@@ -125,10 +128,13 @@ TEST(ExchangeSymmetry, OpenCornellRoomIsSymmetricAndLeaks) {
 // Two parallel squares facing each other, a third one between them facing away on one
 // side: the depth order decides the partners.
 TEST(ExchangeOrder, NearestFacingSurfaceWins) {
-    const std::vector<Vec3> bottom_up = {{-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {0.5, 0.5, -0.5}, {-0.5, 0.5, -0.5}};
-    const std::vector<Vec3> top_down = {{-0.5, -0.5, 0.5}, {-0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.5, -0.5, 0.5}};
+    const std::vector<Vec3> bottom_up = {
+        {-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}, {0.5, 0.5, -0.5}, {-0.5, 0.5, -0.5}};
+    const std::vector<Vec3> top_down = {
+        {-0.5, -0.5, 0.5}, {-0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.5, -0.5, 0.5}};
     // Middle occluder over x in [0, 0.5], facing down (towards the bottom square).
-    const std::vector<Vec3> middle_down = {{0.0, -0.5, 0.0}, {0.0, 0.5, 0.0}, {0.5, 0.5, 0.0}, {0.5, -0.5, 0.0}};
+    const std::vector<Vec3> middle_down = {
+        {0.0, -0.5, 0.0}, {0.0, 0.5, 0.0}, {0.5, 0.5, 0.0}, {0.5, -0.5, 0.0}};
     const Scene scene = test::make_scene({bottom_up, top_down, middle_down});
     const Psf psf = rasterise_psf(scene, Vec3(0, 0, 1), 0, 16, 16);
     ASSERT_EQ(psf.tiles.size(), 1u);
@@ -161,6 +167,38 @@ TEST(ExchangeOrder, NearestFacingSurfaceWins) {
     EXPECT_GT(saw_top, 0);
     EXPECT_GT(saw_middle, 0);
     EXPECT_GT(top_blocked, 0);
+}
+
+// Coincident opposite-facing surfaces: two solids in contact face into each other and
+// pair; the two sides of a two-sided face look away from each other and do not.
+TEST(Exchange, ContactsPairAndTwoSidedFacesDoNot) {
+    for (bool twins : {false, true}) {
+        Scene scene =
+            test::make_scene({{{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}},
+                              {{-0.5, -0.5, 0}, {-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}}});
+        if (twins) {
+            scene.faces[0].twin = 1;
+            scene.faces[1].twin = 0;
+        }
+        const DirectionSet dirs(9);
+        int d = 0;  // the direction most across the faces
+        for (int k = 1; k < dirs.size(); ++k)
+            if (std::abs(dirs.direction(k).z) > std::abs(dirs.direction(d).z)) d = k;
+        const Psf psf = rasterise_psf(scene, dirs.direction(d), d, 16, 8);
+        TileExchange x;
+        ExchangeScratch scratch;
+        int64_t pairs = 0, rays = 0;
+        for (const Tile& tile : psf.tiles) {
+            build_exchange(scene, psf, tile, x, scratch);
+            for (const Fragment& f : tile.fragments)
+                for (uint32_t k = 0; k < f.covered; ++k) {
+                    ++rays;
+                    pairs += x.partner[f.ray_offset + k] >= 0;
+                }
+        }
+        ASSERT_GT(rays, 0);
+        EXPECT_EQ(pairs, twins ? 0 : rays) << (twins ? "two-sided face" : "contact");
+    }
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // Continuous clipping (VLF §4.2, vlf/texel_clip.hpp): the overlaps of a beam's footprint
 // with a texel grid are exact areas, they partition the footprint, and the rim cells
 // reach outwards. Checked against an independent clip of the quad by each cell.
+#include "vlf/texel_clip.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,8 +11,6 @@
 #include <map>
 #include <random>
 #include <vector>
-
-#include "vlf/texel_clip.hpp"
 
 namespace vlf {
 namespace {
@@ -163,7 +163,8 @@ TEST(TexelClip, FootprintWeightsAreUnbiasedAtTheRim) {
     for (int t = 0; t < trials; ++t) {
         // A footprint: pixel edges dx, dy in texel units (rotated, sheared, stretched as an
         // oblique beam's is), lattice of centres with a random phase.
-        const double ang = 6.283185307179586 * u(rng), shear = u(rng) - 0.5, stretch = 1.0 / (0.3 + 0.7 * u(rng));
+        const double ang = 6.283185307179586 * u(rng), shear = u(rng) - 0.5,
+                     stretch = 1.0 / (0.3 + 0.7 * u(rng));
         const Vec2 dx = Vec2(std::cos(ang), std::sin(ang)) * (0.8 * stretch);
         const Vec2 dy = Vec2(-std::sin(ang), std::cos(ang)) * 0.8 + dx * shear;
         const double cell_area = std::abs(dx.x * dy.y - dx.y * dy.x);
@@ -194,7 +195,8 @@ TEST(TexelClip, FootprintWeightsAreUnbiasedAtTheRim) {
     for (int k = 0; k < W * H; ++k) {
         if (inside[k] < 0.3) continue;  // slivers: too few samples for a 3 % check
         const double ratio = got[k] / total_area_weight / inside[k];
-        EXPECT_NEAR(ratio, 1.0, 0.03) << "texel " << k % W << "," << k / W << " inside " << inside[k];
+        EXPECT_NEAR(ratio, 1.0, 0.03)
+            << "texel " << k % W << "," << k / W << " inside " << inside[k];
         rim += inside[k] < 0.999;
     }
     EXPECT_GT(rim, 8);

@@ -24,7 +24,8 @@ Scene odd_faces() {
         {"type": "polygon", "material": "f", "vertices": [[0, 0, 0.5], [0.81, 0.1, 0.5], [0.2, 0.67, 0.5]]}
       ],
       "settings": {"texel_size": 0.1}
-    })", "odd.json", ".");
+    })",
+                                  "odd.json", ".");
 }
 
 // P = B * area: a field of exitance B(texel).
@@ -65,7 +66,8 @@ TEST(GaussianFilter, ConservesPowerAndSmoothsLikeAGaussianInside) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(0.0, 2.0);
     fill(scene, maps, [&](const Face&, size_t) { return u(rng); });
-    const double before0 = face_power(maps, scene.faces[0]), before1 = face_power(maps, scene.faces[1]);
+    const double before0 = face_power(maps, scene.faces[0]),
+                 before1 = face_power(maps, scene.faces[1]);
     gaussian_filter_next(scene, maps, 1.0);
     EXPECT_NEAR(face_power(maps, scene.faces[0]), before0, 1e-12 * before0);
     EXPECT_NEAR(face_power(maps, scene.faces[1]), before1, 1e-12 * before1);

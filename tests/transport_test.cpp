@@ -1,8 +1,9 @@
 // Physics of propagation (DESIGN §8): the energy ledger, the furnace, analytic form
 // factors, a mirror image source, perturbation against holes, thread-count independence.
-#include <gtest/gtest.h>
+#include "vlf/transport.hpp"
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
@@ -14,7 +15,6 @@
 #include "vlf/parallel.hpp"
 #include "vlf/propagation.hpp"
 #include "vlf/scene_loader.hpp"
-#include "vlf/transport.hpp"
 
 namespace vlf {
 namespace {
@@ -92,10 +92,9 @@ std::string ledger_case_name(const ::testing::TestParamInfo<LedgerOptions>& info
     std::string name = std::filesystem::path(c.scene).stem().string();
     for (char& ch : name)
         if (ch == '-') ch = '_';
-    return fmt::format("{}_P{}_s{}_f{}_{}_{}_{}", name, P, s, sigma > 0 ? 1 : 0,
-                       deferred ? "deferred" : "direct",
-                       scheme == DirectionScheme::Octahedral ? "oct" : "ea",
-                       resample ? "resample" : "noresample");
+    return fmt::format(
+        "{}_P{}_s{}_f{}_{}_{}_{}", name, P, s, sigma > 0 ? 1 : 0, deferred ? "deferred" : "direct",
+        scheme == DirectionScheme::Octahedral ? "oct" : "ea", resample ? "resample" : "noresample");
 }
 
 TEST_P(TransportLedgerProduct, ClosesEveryCycle) {
@@ -112,8 +111,10 @@ TEST_P(TransportLedgerProduct, ClosesEveryCycle) {
     for (const LedgerEntry& e : run.transport->ledger()) {
         EXPECT_LE(e.relative_error(), 1e-9) << format_ledger(e);
         EXPECT_GT(e.absorbed.x, 0.0);
-        if (scene_case.closed) EXPECT_EQ(e.escaped, Rgb(0.0)) << format_ledger(e);
-        else EXPECT_GT(e.escaped.x, 0.0);
+        if (scene_case.closed)
+            EXPECT_EQ(e.escaped, Rgb(0.0)) << format_ledger(e);
+        else
+            EXPECT_GT(e.escaped.x, 0.0);
     }
 }
 
@@ -141,7 +142,8 @@ TEST(TransportLedger, ContactGeometryLeaksNothing) {
         {"type": "box", "min": [1.3, 0.3, 0.3], "max": [1.6, 0.6, 0.6], "material": "f"},
         {"type": "polygon", "two_sided": true, "material": "f",
          "vertices": [[0.2, 0.2, 0.2], [0.5, 0.2, 0.2], [0.5, 0.9, 0.2], [0.2, 0.9, 0.2]]}
-      ]})", "contact.json", ".");
+      ]})",
+                                               "contact.json", ".");
     PropagateParams p;
     p.cycles = 3;
     const auto t = run(scene, p);
@@ -156,6 +158,21 @@ TEST(TransportLedger, ContactGeometryLeaksNothing) {
         const Rgb total = TextureMaps::sum(tex.total, tex.begin(f.id), tex.count(f.id));
         EXPECT_NEAR(total.x / (kPi * f.area) / expect, 1.0, 0.01) << "face " << f.id;
     }
+}
+
+// Every second of a run is in a wall-clock bucket: the phases add up to the total,
+// perturbed passes included (they used to be in none).
+TEST(TransportTimings, PhasesAddUpToTheTotal) {
+    const Scene scene = load_scene(test::source_path("scenes/cornell-mirrors.json"));
+    PropagateParams p = params(129, 32, 8, 3, true);
+    p.perturbations = 2;
+    p.filter_sigma = 0.7;
+    p.resample = true;
+    const Propagation run = propagate(scene, p, {});
+    const nlohmann::json t = propagation_report(scene, p, run, 0.0)["timings_s"];
+    const double total = t["total"].get<double>(), other = t["other"].get<double>();
+    EXPECT_GT(t["passes"].get<double>(), 0.5 * total);
+    EXPECT_LE(std::abs(other), 0.02 * total + 0.005) << t.dump();
 }
 
 // Numerical loss (light sent to back faces, into sealed rays, grazing mirrors, empty
@@ -205,9 +222,10 @@ TexelErrors furnace_errors(const PropagateParams& p) {
             ++e.texels;
         }
     e.rms = std::sqrt(sum2 / e.texels);
-    std::printf("furnace l=%d N=%d m=%d P=%d sigma=%.1f s=%d: worst texel %.4f, RMS %.4f over %d texels\n",
-                p.field.directions, p.field.resolution, p.field.tile, p.perturbations,
-                p.filter_sigma, p.supersample, e.worst, e.rms, e.texels);
+    std::printf(
+        "furnace l=%d N=%d m=%d P=%d sigma=%.1f s=%d: worst texel %.4f, RMS %.4f over %d texels\n",
+        p.field.directions, p.field.resolution, p.field.tile, p.perturbations, p.filter_sigma,
+        p.supersample, e.worst, e.rms, e.texels);
     expect_ledger_closes(*t);
     return e;
 }
@@ -243,7 +261,8 @@ double form_factor(const std::string& receiver_vertices, int l, int N) {
         {{"type": "polygon", "material": "catch", "vertices": {}}}
       ],
       "settings": {{"texel_size": 0.05}}
-    }})", receiver_vertices));
+    }})",
+                                              receiver_vertices));
     const auto t = run(scene, params(l, N, 16, 1));
     const TextureMaps& tex = t->texture_maps();
     const Rgb received = TextureMaps::sum(tex.current, tex.begin(1), tex.count(1));
@@ -293,7 +312,8 @@ RatioStats mirror_image_ratios(double filter_sigma, int perturbations = 0, int s
         {{"type": "polygon", "material": "lamp", "vertices": [[-{0},-{0},0.5],[{0},-{0},0.5],[{0},{0},0.5],[-{0},{0},0.5]]}}
       ],
       "settings": {{"texel_size": 0.1}}
-    }})", h));
+    }})",
+                                              h));
     PropagateParams p = params(2049, 128, 16, 2);
     p.filter_sigma = filter_sigma;
     p.perturbations = perturbations;
@@ -308,15 +328,16 @@ RatioStats mirror_image_ratios(double filter_sigma, int perturbations = 0, int s
         for (int i = 0; i < floor.texels.width; ++i) {
             const size_t k = size_t(j) * floor.texels.width + i;
             if (floor.texel_area[k] < 0.99 * floor.texels.size * floor.texels.size) continue;
-            const Vec3 c = scene.normalisation.to_user(
-                floor.texels.to_plane(Vec2(i + 0.5, j + 0.5)));
+            const Vec3 c =
+                scene.normalisation.to_user(floor.texels.to_plane(Vec2(i + 0.5, j + 0.5)));
             const double radius = std::hypot(c.x, c.y);
             // Outside the emitter's shadow (radius < 0.3), inside the well-lit disc.
             if (radius < 0.45 || radius > 1.0) continue;
             // Irradiance (user units) = power / area; the floor's rho_d = 1.
             const double e = tex.current[tex.begin(0) + k].x * t->to_user_power() /
-                              (floor.texel_area[k] / (s * s));
-            const double expect = 0.9 * kPi * rect_factor(-h - c.x, h - c.x, -h - c.y, h - c.y, 1.5);
+                             (floor.texel_area[k] / (s * s));
+            const double expect =
+                0.9 * kPi * rect_factor(-h - c.x, h - c.x, -h - c.y, h - c.y, 1.5);
             r.worst = std::max(r.worst, std::abs(e / expect - 1));
             r.mean += e / expect;
             ++n;
@@ -347,7 +368,7 @@ TEST(TransportMirror, ImageSourceIrradiance) {
 // carry the light into the mirror and out of it without losing any (each pass's
 // reflections add to the mirror's unshot maps).
 TEST(TransportMirror, ImageSourceIrradianceWithPerturbationAndSupersampling) {
-    for (const auto [P, s] : {std::pair{1, 1}, std::pair{3, 2}}) {
+    for (const auto& [P, s] : {std::pair{1, 1}, std::pair{3, 2}}) {
         const RatioStats r = mirror_image_ratios(1.0, P, s);
         EXPECT_LT(r.worst, 0.05) << "P = " << P << ", s = " << s << ", mean ratio " << r.mean;
         EXPECT_NEAR(r.mean, 1.0, 0.02) << "P = " << P << ", s = " << s;
@@ -375,11 +396,13 @@ double hole_roughness(int perturbations) {
     for (int j = 0; j < floor.texels.height; ++j)
         for (int i = 0; i < floor.texels.width; ++i) {
             const size_t k = size_t(j) * floor.texels.width + i;
-            const Vec3 c = scene.normalisation.to_user(floor.texels.to_plane(Vec2(i + 0.5, j + 0.5)));
+            const Vec3 c =
+                scene.normalisation.to_user(floor.texels.to_plane(Vec2(i + 0.5, j + 0.5)));
             if (std::hypot(c.x, c.y) > 1.2) continue;
             const double e = tex.current[tex.begin(0) + k].x * t->to_user_power() /
-                              (floor.texel_area[k] / (s * s));
-            const double expect = kPi * rect_factor(-0.1 - c.x, 0.1 - c.x, -0.1 - c.y, 0.1 - c.y, 1.0);
+                             (floor.texel_area[k] / (s * s));
+            const double expect =
+                kPi * rect_factor(-0.1 - c.x, 0.1 - c.x, -0.1 - c.y, 0.1 - c.y, 1.0);
             const double r = e / expect;
             sum += r;
             sum2 += r * r;
@@ -392,8 +415,8 @@ double hole_roughness(int perturbations) {
 TEST(TransportPerturbation, ReducesHoles) {
     const double plain = hole_roughness(0);
     const double perturbed = hole_roughness(8);
-    EXPECT_LT(perturbed, 0.7 * plain) << "std-dev of E/E_exact: plain " << plain
-                                      << ", perturbed " << perturbed;
+    EXPECT_LT(perturbed, 0.7 * plain)
+        << "std-dev of E/E_exact: plain " << plain << ", perturbed " << perturbed;
 }
 
 void expect_same_maps(const Transport& one, const Transport& two) {

@@ -50,11 +50,12 @@ void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileEx
         if (e - b == 0) continue;
         auto* first = scratch.entries.data() + b;
         auto* last = scratch.entries.data() + e;
-        std::sort(first, last, [](const ExchangeScratch::Entry& a, const ExchangeScratch::Entry& c) {
-            if (a.depth != c.depth) return a.depth < c.depth;
-            if (a.facing != c.facing) return a.facing < c.facing;
-            return a.fragment < c.fragment;
-        });
+        std::sort(first, last,
+                  [](const ExchangeScratch::Entry& a, const ExchangeScratch::Entry& c) {
+                      if (a.depth != c.depth) return a.depth < c.depth;
+                      if (a.facing != c.facing) return a.facing < c.facing;
+                      return a.fragment < c.fragment;
+                  });
         const uint32_t cnt = e - b;
         // Coincident opposite-facing surfaces (equal depth up to rounding): the two sides
         // of a two-sided face look away from each other ([-1, +1]); any other pair is two
@@ -84,7 +85,8 @@ void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileEx
                 out.partner[slot] = next->fragment;
                 out.partner_ray[slot] = next->k;
             } else {
-                out.partner[slot] = std::abs(next->depth - cur.depth) < seal_gap ? kSealed : kBlocked;
+                out.partner[slot] =
+                    std::abs(next->depth - cur.depth) < seal_gap ? kSealed : kBlocked;
             }
         }
     }

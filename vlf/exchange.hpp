@@ -24,9 +24,9 @@ inline constexpr int32_t kSealed = -3;
 struct TileExchange {
     // Indexed by fragment.ray_offset + k, k the ray's index in the fragment's edge table
     // (row-major order, EdgeTable::for_each_ray).
-    std::vector<int32_t> partner;      // fragment index in the tile, kEscaped or kBlocked
-    std::vector<uint32_t> partner_ray; // k of the same ray in the partner's edge table
-    std::vector<float> depth;          // rotated z of the fragment on that ray
+    std::vector<int32_t> partner;       // fragment index in the tile, kEscaped or kBlocked
+    std::vector<uint32_t> partner_ray;  // k of the same ray in the partner's edge table
+    std::vector<float> depth;           // rotated z of the fragment on that ray
 };
 
 // Scratch buffers, reused from tile to tile by one worker.

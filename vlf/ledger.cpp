@@ -42,14 +42,10 @@ nlohmann::json to_json(const LedgerEntry& e) {
                                  {"grazing_mirror", v(e.lost.grazing_mirror)},
                                  {"subpixel_mirror", v(e.lost.subpixel_mirror)},
                                  {"rounding", v(e.lost.rounding)}};
-    return {{"cycle", e.cycle},
-            {"emitted", v(e.emitted)},
-            {"absorbed", v(e.absorbed)},
-            {"lost", lost},
-            {"escaped", v(e.escaped)},
-            {"unshot", v(e.unshot)},
-            {"deferred", v(e.deferred)},
-            {"relative_error", e.relative_error()}};
+    return {{"cycle", e.cycle},          {"emitted", v(e.emitted)},
+            {"absorbed", v(e.absorbed)}, {"lost", lost},
+            {"escaped", v(e.escaped)},   {"unshot", v(e.unshot)},
+            {"deferred", v(e.deferred)}, {"relative_error", e.relative_error()}};
 }
 
 std::string format_ledger(const LedgerEntry& e) {

@@ -3,9 +3,8 @@
 // scene's own units (radiance x user area x sr).
 #pragma once
 
-#include <vector>
-
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "vlf/math.hpp"
 
@@ -34,12 +33,12 @@ struct NumericalLoss {
 
 struct LedgerEntry {
     int cycle = 0;
-    Rgb emitted{0.0};   // loaded by emitters so far
-    Rgb absorbed{0.0};  // by materials: (1 - rho_d - rho_s) of what surfaces receive
-    NumericalLoss lost; // by the discretisation, by cause
-    Rgb escaped{0.0};   // left the scene (open scenes)
-    Rgb unshot{0.0};    // in current texture maps and unshot radiance maps, to be shot
-    Rgb deferred{0.0};  // held back by deferred surfaces (VLF §4.5)
+    Rgb emitted{0.0};    // loaded by emitters so far
+    Rgb absorbed{0.0};   // by materials: (1 - rho_d - rho_s) of what surfaces receive
+    NumericalLoss lost;  // by the discretisation, by cause
+    Rgb escaped{0.0};    // left the scene (open scenes)
+    Rgb unshot{0.0};     // in current texture maps and unshot radiance maps, to be shot
+    Rgb deferred{0.0};   // held back by deferred surfaces (VLF §4.5)
     // |emitted - absorbed - lost - escaped - unshot - deferred| / emitted, worst channel.
     double relative_error() const;
 };

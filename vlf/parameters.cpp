@@ -19,11 +19,19 @@ void validate(const PropagateParams& p) {
         throw ParameterError(fmt::format("--resolution/--tile: {}", e.what()));
     }
     if (!(p.texel_size >= 0.0) || !std::isfinite(p.texel_size))
-        throw ParameterError(fmt::format("--texel-size: {} must be a positive length", p.texel_size));
+        throw ParameterError(
+            fmt::format("--texel-size: {} must be a positive length", p.texel_size));
+    if (p.texel_divisions < 1 || p.texel_divisions > 4096)
+        throw ParameterError(
+            fmt::format("--texel-divisions: {} is out of range (1 to 4096)", p.texel_divisions));
+    if (!(p.stop_unshot >= 0.0) || p.stop_unshot >= 1.0)
+        throw ParameterError(
+            fmt::format("--stop-unshot: {} is out of range (0 = off, up to 1)", p.stop_unshot));
     if (p.cycles < 1 || p.cycles > 10000)
         throw ParameterError(fmt::format("--cycles: {} is out of range (1 to 10000)", p.cycles));
     if (p.threads < 0 || p.threads > 1024)
-        throw ParameterError(fmt::format("--threads: {} is out of range (0 = all, up to 1024)", p.threads));
+        throw ParameterError(
+            fmt::format("--threads: {} is out of range (0 = all, up to 1024)", p.threads));
     if (p.perturbations < 0 || p.perturbations > 64)
         throw ParameterError(
             fmt::format("--perturbations: {} is out of range (0 to 64)", p.perturbations));
@@ -34,12 +42,12 @@ void validate(const PropagateParams& p) {
         throw ParameterError(
             fmt::format("--supersample: {} is out of range (1 to 8)", p.supersample));
     if (p.cache_budget_mib < 0 || p.cache_budget_mib > (int64_t(1) << 24))
-        throw ParameterError(fmt::format(
-            "--cache-budget: {} MiB is out of range (0 to 16777216)", p.cache_budget_mib));
+        throw ParameterError(fmt::format("--cache-budget: {} MiB is out of range (0 to 16777216)",
+                                         p.cache_budget_mib));
     if (p.field.resolution * p.supersample > 4096)
-        throw ParameterError(fmt::format(
-            "--supersample: N x s = {} x {} exceeds the 4096-ray limit of a PSF side",
-            p.field.resolution, p.supersample));
+        throw ParameterError(
+            fmt::format("--supersample: N x s = {} x {} exceeds the 4096-ray limit of a PSF side",
+                        p.field.resolution, p.supersample));
 }
 
 nlohmann::json to_json(const FieldParams& p) {
@@ -52,8 +60,11 @@ nlohmann::json to_json(const FieldParams& p) {
 
 nlohmann::json to_json(const PropagateParams& p) {
     nlohmann::json j = to_json(p.field);
+    j["quality"] = p.quality;
     j["texel_size"] = p.texel_size;
+    j["texel_divisions"] = p.texel_divisions;
     j["cycles"] = p.cycles;
+    j["stop_unshot"] = p.stop_unshot;
     j["threads"] = p.threads;
     j["deferred"] = p.deferred;
     j["perturbations"] = p.perturbations;
@@ -73,8 +84,11 @@ PropagateParams propagate_params_from_json(const nlohmann::json& j) {
         p.field.resolution = j.at("resolution").get<int>();
         p.field.tile = j.at("tile").get<int>();
         p.field.scheme = direction_scheme_from_string(j.at("scheme").get<std::string>());
+        p.quality = j.at("quality").get<std::string>();
         p.texel_size = j.at("texel_size").get<double>();
+        p.texel_divisions = j.at("texel_divisions").get<int>();
         p.cycles = j.at("cycles").get<int>();
+        p.stop_unshot = j.at("stop_unshot").get<double>();
         p.threads = j.at("threads").get<int>();
         p.deferred = j.at("deferred").get<bool>();
         p.perturbations = j.at("perturbations").get<int>();

@@ -3,17 +3,23 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include <cstdio>
-
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "vlf/progress.hpp"
 #include "vlf/raycaster.hpp"
-#include "vlf/resample.hpp"
 #include "vlf/report.hpp"
+#include "vlf/resample.hpp"
 
 namespace vlf {
+
+bool settled(const LedgerEntry& e, double stop_unshot) {
+    if (stop_unshot <= 0.0) return false;
+    for (int c = 0; c < 3; ++c)
+        if (e.unshot[c] + e.deferred[c] > stop_unshot * e.emitted[c]) return false;
+    return true;
+}
 
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -23,7 +29,9 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     run.transport->set_progress(&bar);
     for (int c = 1; c <= params.cycles; ++c) {
         run.transport->run_cycle(c == params.cycles);
-        if (opts.on_cycle) opts.on_cycle(run.transport->ledger().back());
+        const LedgerEntry& e = run.transport->ledger().back();
+        if (opts.on_cycle) opts.on_cycle(e);
+        if (settled(e, params.stop_unshot)) break;
     }
     run.transport->set_progress(nullptr);
     bar.finish();
@@ -101,18 +109,17 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
     const TransportTimings& tm = t.timings();
     // Wall-clock phases that add up to the total ("other" is what falls between them);
     // inside the passes, CPU seconds summed over worker threads.
-    nlohmann::json timings = {
-        {"setup", tm.setup},
-        {"passes", tm.passes},
-        {"specular", tm.specular},
-        {"filter", tm.filter},
-        {"bookkeeping", tm.bookkeeping},
-        {"resample", run.seconds_resample},
-        {"cpu_in_passes",
-         {{"rasterise", tm.rasterise},
-          {"clipping", tm.clipping},
-          {"exchange", tm.exchange},
-          {"transfer", tm.transfer}}}};
+    nlohmann::json timings = {{"setup", tm.setup},
+                              {"passes", tm.passes},
+                              {"specular", tm.specular},
+                              {"filter", tm.filter},
+                              {"bookkeeping", tm.bookkeeping},
+                              {"resample", run.seconds_resample},
+                              {"cpu_in_passes",
+                               {{"rasterise", tm.rasterise},
+                                {"clipping", tm.clipping},
+                                {"exchange", tm.exchange},
+                                {"transfer", tm.transfer}}}};
     set_write_time(timings, run, write_seconds);
     const auto& tex = t.texture_maps();
     nlohmann::json memory = {
@@ -128,9 +135,10 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
             {"surfaces", surface_report(scene, tex)},
             {"timings_s", timings},
             {"memory_bytes", memory},
-            {"geometry_cache", {{"budget_mib", params.cache_budget_mib},
-                                {"directions_cached", t.cached_directions()},
-                                {"directions", t.directions().size()}}}};
+            {"geometry_cache",
+             {{"budget_mib", params.cache_budget_mib},
+              {"directions_cached", t.cached_directions()},
+              {"directions", t.directions().size()}}}};
 }
 
 }  // namespace vlf

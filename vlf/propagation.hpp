@@ -5,9 +5,8 @@
 
 #include <functional>
 #include <memory>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "vlf/parameters.hpp"
 #include "vlf/scene.hpp"
@@ -16,8 +15,8 @@
 namespace vlf {
 
 struct RunOptions {
-    bool progress = false;                            // progress bar on stderr
-    std::function<void(const LedgerEntry&)> on_cycle; // called after every cycle
+    bool progress = false;                             // progress bar on stderr
+    std::function<void(const LedgerEntry&)> on_cycle;  // called after every cycle
 };
 
 struct Propagation {
@@ -26,7 +25,10 @@ struct Propagation {
     double seconds_resample = 0.0;  // backward ray-traced resampling (VLF §5)
 };
 
+// Runs up to params.cycles cycles, stopping early once settled(ledger, stop_unshot).
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts);
+// Less than `stop_unshot` of the emitted power (every channel) is left to shoot.
+bool settled(const LedgerEntry& e, double stop_unshot);
 
 // Per face: {"id", "object", "material", "area", "radiance_mean", "radiance_min",
 // "radiance_max"} — outgoing diffuse radiance of P^T; min/max over texels at least half

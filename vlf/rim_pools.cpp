@@ -47,8 +47,7 @@ RimPools build_rim_pools(const Scene& scene, const TextureMaps& maps) {
             while (p.host[h] != h) h = p.host[h];
             p.host[b + k] = h;
         }
-        for (size_t k = 0; k < size_t(W) * H; ++k)
-            p.pool_area[p.host[b + k]] += f.texel_area[k];
+        for (size_t k = 0; k < size_t(W) * H; ++k) p.pool_area[p.host[b + k]] += f.texel_area[k];
     });
     return p;
 }

@@ -21,7 +21,7 @@
 namespace vlf {
 
 struct RimPools {
-    std::vector<uint32_t> host;   // per texel (global index into the texture maps)
+    std::vector<uint32_t> host;     // per texel (global index into the texture maps)
     std::vector<double> pool_area;  // per host: area of the host and its members
     bool empty() const;
 };

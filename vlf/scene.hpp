@@ -45,10 +45,10 @@ struct TexelFrame {
 };
 
 struct Face {
-    int id = 0;        // index into Scene::faces
-    int object = 0;    // index into Scene::objects
-    int material = 0;  // index into Scene::materials
-    int twin = -1;     // the reverse face of a two-sided face (same polygon, other side)
+    int id = 0;                  // index into Scene::faces
+    int object = 0;              // index into Scene::objects
+    int material = 0;            // index into Scene::materials
+    int twin = -1;               // the reverse face of a two-sided face (same polygon, other side)
     std::vector<Vec3> vertices;  // normalised coords, counter-clockwise seen from the front
     Vec3 normal{0, 0, 1};        // unit, front side
     double plane_offset = 0.0;   // dot(normal, x) == plane_offset on the face

@@ -18,12 +18,13 @@
 //               rotate_x_deg? / rotate_y_deg? / rotate_z_deg? = 0, translate? = [0,0,0]
 //               applied as: scale, rotate x, y, z (about the pivot), translate. Pivot: box
 //               centre, sphere centre, cylinder axis midpoint; the origin for polygon and mesh.
-//     polygon   vertices [[x,y,z] x >= 3] (counter-clockwise seen from the front), triangulate? = false
-//     box       min, max (max > min per axis)
-//     sphere    center? = [0,0,0], radius (> 0), subdivisions? = 2 (integer 0..6)
-//     cylinder  radius (> 0), height (> 0), inner_radius? = 0 (0 <= inner < radius),
+//     polygon   vertices [[x,y,z] x >= 3] (counter-clockwise seen from the front), triangulate? =
+//     false box       min, max (max > min per axis) sphere    center? = [0,0,0], radius (> 0),
+//     subdivisions? = 2 (integer 0..6) cylinder  radius (> 0), height (> 0), inner_radius? = 0 (0
+//     <= inner < radius),
 //               center? = [0,0,0] (base centre; axis +y), segments? = 32 (3..4096), caps? = true
-//     mesh      file (.obj .ply .off .stl, relative to the scene file's directory), triangulate? = false
+//     mesh      file (.obj .ply .off .stl, relative to the scene file's directory), triangulate? =
+//     false
 //   camera      name? = "camera#<index>", eye, look_at (!= eye), up? = [0,1,0] (not parallel to
 //               the view direction), fov_y_deg (0 < fov < 180); user units
 // "triangulate": true turns every face of the object into triangles (ear clipping for planar
@@ -36,18 +37,18 @@
 // 0-based, in file order.
 #include "vlf/scene_loader.hpp"
 
+#include <fmt/core.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <sstream>
-
-#include <fmt/core.h>
-#include <nlohmann/json.hpp>
-#include <tbb/parallel_for.h>
 
 #include "vlf/error.hpp"
 #include "vlf/mesh_import.hpp"
@@ -72,7 +73,7 @@ constexpr double kNormalisedRadius = 0.999;  // geometry strictly inside the uni
 // A SAX handler that builds the tree itself so it always knows the JSON place of the
 // value being read: nlohmann's DOM parser reports a number overflow (1e999) without one.
 class TreeBuilder {
-public:
+  public:
     using number_integer_t = Json::number_integer_t;
     using number_unsigned_t = Json::number_unsigned_t;
     using number_float_t = Json::number_float_t;
@@ -88,7 +89,8 @@ public:
     bool number_integer(number_integer_t v) { return add(Json(v)); }
     bool number_unsigned(number_unsigned_t v) { return add(Json(v)); }
     bool number_float(number_float_t v, const string_t& s) {
-        if (!std::isfinite(v)) fail(m_file, next_place(), fmt::format("number '{}' is not finite", s));
+        if (!std::isfinite(v))
+            fail(m_file, next_place(), fmt::format("number '{}' is not finite", s));
         return add(Json(v));
     }
     bool string(string_t& v) { return add(Json(v)); }
@@ -100,8 +102,7 @@ public:
     }
     bool key(string_t& k) {
         Frame& f = m_stack.back();
-        if (!f.keys.insert(k).second)
-            fail(m_file, join(place_of_stack(), k), "duplicate key");
+        if (!f.keys.insert(k).second) fail(m_file, join(place_of_stack(), k), "duplicate key");
         f.key = k;
         return true;
     }
@@ -135,7 +136,7 @@ public:
         fail(m_file, fmt::format("line {}, column {}", line, column), "malformed JSON: " + what);
     }
 
-private:
+  private:
     struct Frame {
         Json* value;
         bool is_array;
@@ -212,9 +213,9 @@ struct ObjectDesc {
     int material = 0;
     bool two_sided = false, flip = false, triangulate = false;
     Vec3 scale{1.0}, rotate_deg{0.0}, translate{0.0};
-    std::vector<Vec3> vertices;   // polygon
+    std::vector<Vec3> vertices;  // polygon
     Vec3 box_min{0.0}, box_max{0.0};
-    Vec3 center{0.0};             // sphere
+    Vec3 center{0.0};  // sphere
     double radius = 0;
     int subdivisions = 2;
     CylinderShape cylinder;
@@ -231,7 +232,7 @@ struct SceneDescription {
 
 // Typed, place-naming accessors over the JSON tree.
 class Validator {
-public:
+  public:
     explicit Validator(const std::string& file) : m_file(file) {}
 
     [[noreturn]] void error(const std::string& place, const std::string& what) const {
@@ -246,13 +247,15 @@ public:
         if (!j.is_object()) error(place, fmt::format("expected an object, got {}", describe(j)));
     }
 
-    void check_keys(const Json& obj, const std::string& place, const std::vector<std::string>& allowed,
+    void check_keys(const Json& obj, const std::string& place,
+                    const std::vector<std::string>& allowed,
                     const std::string& context = "") const {
         for (const auto& [k, v] : obj.items()) {
             if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
             std::string list;
             for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-            error(key_place(place, k), fmt::format("unknown key{} (expected one of: {})", context, list));
+            error(key_place(place, k),
+                  fmt::format("unknown key{} (expected one of: {})", context, list));
         }
     }
 
@@ -288,7 +291,8 @@ public:
     }
 
     bool boolean(const Json& j, const std::string& place) const {
-        if (!j.is_boolean()) error(place, fmt::format("expected true or false, got {}", describe(j)));
+        if (!j.is_boolean())
+            error(place, fmt::format("expected true or false, got {}", describe(j)));
         return j.get<bool>();
     }
 
@@ -298,7 +302,8 @@ public:
     }
 
     Vec3 vec3(const Json& j, const std::string& place) const {
-        if (!j.is_array()) error(place, fmt::format("expected an array of 3 numbers, got {}", describe(j)));
+        if (!j.is_array())
+            error(place, fmt::format("expected an array of 3 numbers, got {}", describe(j)));
         if (j.size() != 3)
             error(place, fmt::format("expected an array of 3 numbers, got {} element{}", j.size(),
                                      j.size() == 1 ? "" : "s"));
@@ -310,7 +315,8 @@ public:
     Vec3 positive_vec3(const Json& j, const std::string& place) const {
         Vec3 v = vec3(j, place);
         for (int i = 0; i < 3; ++i)
-            if (!(v[i] > 0)) error(fmt::format("{}[{}]", place, i), fmt::format("must be > 0 (got {})", v[i]));
+            if (!(v[i] > 0))
+                error(fmt::format("{}[{}]", place, i), fmt::format("must be > 0 (got {})", v[i]));
         return v;
     }
 
@@ -324,7 +330,7 @@ public:
         return j.type_name();
     }
 
-private:
+  private:
     const std::string& m_file;
 };
 
@@ -353,13 +359,15 @@ Material validate_material(const Validator& v, const std::string& name, const Js
     m.emission = rgb("emission", inf);
     for (int i = 0; i < 3; ++i)
         if (m.diffuse[i] + m.specular[i] > 1.0)
-            v.error(place, fmt::format("diffuse + specular = {} > 1 in channel {} (reflectance must not "
-                                       "exceed 1)",
-                                       m.diffuse[i] + m.specular[i], i));
+            v.error(place,
+                    fmt::format("diffuse + specular = {} > 1 in channel {} (reflectance must not "
+                                "exceed 1)",
+                                m.diffuse[i] + m.specular[i], i));
     return m;
 }
 
-void validate_transform(const Validator& v, const Json& j, const std::string& place, ObjectDesc& o) {
+void validate_transform(const Validator& v, const Json& j, const std::string& place,
+                        ObjectDesc& o) {
     if (const Json* s = Validator::optional(j, "scale")) {
         const std::string p = place + ".scale";
         if (s->is_number())
@@ -367,12 +375,15 @@ void validate_transform(const Validator& v, const Json& j, const std::string& pl
         else if (s->is_array())
             o.scale = v.positive_vec3(*s, p);
         else
-            v.error(p, fmt::format("expected a number or an array of 3 numbers, got {}", Validator::describe(*s)));
+            v.error(p, fmt::format("expected a number or an array of 3 numbers, got {}",
+                                   Validator::describe(*s)));
     }
     const char* rot[3] = {"rotate_x_deg", "rotate_y_deg", "rotate_z_deg"};
     for (int a = 0; a < 3; ++a)
-        if (const Json* r = Validator::optional(j, rot[a])) o.rotate_deg[a] = v.number(*r, place + "." + rot[a]);
-    if (const Json* t = Validator::optional(j, "translate")) o.translate = v.vec3(*t, place + ".translate");
+        if (const Json* r = Validator::optional(j, rot[a]))
+            o.rotate_deg[a] = v.number(*r, place + "." + rot[a]);
+    if (const Json* t = Validator::optional(j, "translate"))
+        o.translate = v.vec3(*t, place + ".translate");
 }
 
 ObjectDesc validate_object(const Validator& v, const Json& j, int index,
@@ -384,9 +395,9 @@ ObjectDesc validate_object(const Validator& v, const Json& j, int index,
     v.expect_object(j, place);
 
     o.type = v.string(v.required(j, place, "type"), at("type"));
-    const std::vector<std::string> common = {"type",         "material",     "name",         "two_sided",
-                                             "flip",         "scale",        "rotate_x_deg", "rotate_y_deg",
-                                             "rotate_z_deg", "translate"};
+    const std::vector<std::string> common = {
+        "type",  "material",     "name",         "two_sided",    "flip",
+        "scale", "rotate_x_deg", "rotate_y_deg", "rotate_z_deg", "translate"};
     std::vector<std::string> specific;
     if (o.type == "polygon")
         specific = {"vertices", "triangulate"};
@@ -399,41 +410,51 @@ ObjectDesc validate_object(const Validator& v, const Json& j, int index,
     else if (o.type == "mesh")
         specific = {"file", "triangulate"};
     else
-        v.error(at("type"), fmt::format("unknown type '{}' (expected polygon, box, sphere, cylinder or mesh)",
-                                        o.type));
+        v.error(at("type"),
+                fmt::format("unknown type '{}' (expected polygon, box, sphere, cylinder or mesh)",
+                            o.type));
     std::vector<std::string> allowed = common;
     allowed.insert(allowed.end(), specific.begin(), specific.end());
     v.check_keys(j, place, allowed, " for a " + o.type);
 
     const std::string mat = v.string(v.required(j, place, "material"), at("material"));
-    auto it = std::find_if(materials.begin(), materials.end(), [&](const Material& m) { return m.name == mat; });
+    auto it = std::find_if(materials.begin(), materials.end(),
+                           [&](const Material& m) { return m.name == mat; });
     if (it == materials.end()) v.error(at("material"), fmt::format("unknown material '{}'", mat));
     o.material = static_cast<int>(it - materials.begin());
 
     o.name = fmt::format("{}#{}", o.type, index);
     if (const Json* n = Validator::optional(j, "name")) o.name = v.string(*n, at("name"));
-    if (const Json* b = Validator::optional(j, "two_sided")) o.two_sided = v.boolean(*b, at("two_sided"));
+    if (const Json* b = Validator::optional(j, "two_sided"))
+        o.two_sided = v.boolean(*b, at("two_sided"));
     if (const Json* b = Validator::optional(j, "flip")) o.flip = v.boolean(*b, at("flip"));
-    if (const Json* b = Validator::optional(j, "triangulate")) o.triangulate = v.boolean(*b, at("triangulate"));
+    if (const Json* b = Validator::optional(j, "triangulate"))
+        o.triangulate = v.boolean(*b, at("triangulate"));
     validate_transform(v, j, place, o);
 
     if (o.type == "polygon") {
         const Json& vs = v.required(j, place, "vertices");
         if (!vs.is_array())
-            v.error(at("vertices"), fmt::format("expected an array of points, got {}", Validator::describe(vs)));
-        if (vs.size() < 3) v.error(at("vertices"), fmt::format("a polygon needs at least 3 vertices (got {})", vs.size()));
-        for (size_t i = 0; i < vs.size(); ++i) o.vertices.push_back(v.vec3(vs[i], fmt::format("{}[{}]", at("vertices"), i)));
+            v.error(at("vertices"),
+                    fmt::format("expected an array of points, got {}", Validator::describe(vs)));
+        if (vs.size() < 3)
+            v.error(at("vertices"),
+                    fmt::format("a polygon needs at least 3 vertices (got {})", vs.size()));
+        for (size_t i = 0; i < vs.size(); ++i)
+            o.vertices.push_back(v.vec3(vs[i], fmt::format("{}[{}]", at("vertices"), i)));
     } else if (o.type == "box") {
         o.box_min = v.vec3(v.required(j, place, "min"), at("min"));
         o.box_max = v.vec3(v.required(j, place, "max"), at("max"));
         for (int a = 0; a < 3; ++a)
             if (!(o.box_max[a] > o.box_min[a]))
                 v.error(fmt::format("{}[{}]", at("max"), a),
-                        fmt::format("must be greater than min[{}] ({} <= {})", a, o.box_max[a], o.box_min[a]));
+                        fmt::format("must be greater than min[{}] ({} <= {})", a, o.box_max[a],
+                                    o.box_min[a]));
     } else if (o.type == "sphere") {
         if (const Json* c = Validator::optional(j, "center")) o.center = v.vec3(*c, at("center"));
         o.radius = v.positive(v.required(j, place, "radius"), at("radius"));
-        if (const Json* s = Validator::optional(j, "subdivisions")) o.subdivisions = v.integer(*s, at("subdivisions"), 0, 6);
+        if (const Json* s = Validator::optional(j, "subdivisions"))
+            o.subdivisions = v.integer(*s, at("subdivisions"), 0, 6);
     } else if (o.type == "cylinder") {
         CylinderShape& c = o.cylinder;
         c.radius = v.positive(v.required(j, place, "radius"), at("radius"));
@@ -441,19 +462,25 @@ ObjectDesc validate_object(const Validator& v, const Json& j, int index,
         if (const Json* r = Validator::optional(j, "inner_radius")) {
             c.inner_radius = v.number(*r, at("inner_radius"));
             if (!(c.inner_radius >= 0 && c.inner_radius < c.radius))
-                v.error(at("inner_radius"),
-                        fmt::format("must be >= 0 and < radius {} (got {})", c.radius, c.inner_radius));
+                v.error(at("inner_radius"), fmt::format("must be >= 0 and < radius {} (got {})",
+                                                        c.radius, c.inner_radius));
         }
-        if (const Json* b = Validator::optional(j, "center")) c.base_center = v.vec3(*b, at("center"));
-        if (const Json* s = Validator::optional(j, "segments")) c.segments = v.integer(*s, at("segments"), 3, 4096);
+        if (const Json* b = Validator::optional(j, "center"))
+            c.base_center = v.vec3(*b, at("center"));
+        if (const Json* s = Validator::optional(j, "segments"))
+            c.segments = v.integer(*s, at("segments"), 3, 4096);
         if (const Json* b = Validator::optional(j, "caps")) c.caps = v.boolean(*b, at("caps"));
     } else if (o.type == "mesh") {
         o.file = v.string(v.required(j, place, "file"), at("file"));
         if (o.file.empty()) v.error(at("file"), "empty file name");
         std::filesystem::path p(o.file);
-        o.file_path = (p.is_absolute() || base_dir.empty()) ? p.string() : (std::filesystem::path(base_dir) / p).string();
+        o.file_path = (p.is_absolute() || base_dir.empty())
+                          ? p.string()
+                          : (std::filesystem::path(base_dir) / p).string();
         if (!is_supported_mesh_file(o.file))
-            v.error(at("file"), fmt::format("'{}': unsupported mesh format (use .obj, .ply, .off or .stl)", o.file));
+            v.error(at("file"),
+                    fmt::format("'{}': unsupported mesh format (use .obj, .ply, .off or .stl)",
+                                o.file));
     }
     return o;
 }
@@ -494,30 +521,38 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
     }
 
     const Json& objs = v.required(root, "(top level)", "objects");
-    if (!objs.is_array()) v.error("objects", fmt::format("expected an array, got {}", Validator::describe(objs)));
+    if (!objs.is_array())
+        v.error("objects", fmt::format("expected an array, got {}", Validator::describe(objs)));
     if (objs.empty()) v.error("objects", "the scene has no objects");
     for (size_t i = 0; i < objs.size(); ++i)
-        d.objects.push_back(validate_object(v, objs[i], static_cast<int>(i), d.materials, base_dir));
+        d.objects.push_back(
+            validate_object(v, objs[i], static_cast<int>(i), d.materials, base_dir));
 
     if (const Json* cams = Validator::optional(root, "cameras")) {
-        if (!cams->is_array()) v.error("cameras", fmt::format("expected an array, got {}", Validator::describe(*cams)));
+        if (!cams->is_array())
+            v.error("cameras",
+                    fmt::format("expected an array, got {}", Validator::describe(*cams)));
         std::set<std::string> names;
         for (size_t i = 0; i < cams->size(); ++i) {
             d.cameras.push_back(validate_camera(v, (*cams)[i], static_cast<int>(i)));
             if (!names.insert(d.cameras.back().name).second)
-                v.error(fmt::format("cameras[{}].name", i), fmt::format("duplicate camera name '{}'", d.cameras.back().name));
+                v.error(fmt::format("cameras[{}].name", i),
+                        fmt::format("duplicate camera name '{}'", d.cameras.back().name));
         }
     }
 
     if (const Json* s = Validator::optional(root, "settings")) {
         v.expect_object(*s, "settings");
         v.check_keys(*s, "settings", {"texel_size", "units"});
-        if (const Json* t = Validator::optional(*s, "texel_size")) d.texel_size = v.positive(*t, "settings.texel_size");
-        if (const Json* u = Validator::optional(*s, "units")) d.units = v.string(*u, "settings.units");
+        if (const Json* t = Validator::optional(*s, "texel_size"))
+            d.texel_size = v.positive(*t, "settings.texel_size");
+        if (const Json* u = Validator::optional(*s, "units"))
+            d.units = v.string(*u, "settings.units");
     }
 
-    const bool any_emitter = std::any_of(d.objects.begin(), d.objects.end(),
-                                         [&](const ObjectDesc& o) { return d.materials[o.material].is_emitter(); });
+    const bool any_emitter =
+        std::any_of(d.objects.begin(), d.objects.end(),
+                    [&](const ObjectDesc& o) { return d.materials[o.material].is_emitter(); });
     if (!any_emitter) v.error("objects", "no emitter: no object uses a material with emission > 0");
     return d;
 }
@@ -545,11 +580,16 @@ std::vector<ImportedMesh> load_resources(const SceneDescription& d, const std::s
 void sincos_deg(double deg, double& s, double& c) {
     const double r = std::fmod(deg, 360.0);
     const double q = r < 0 ? r + 360.0 : r;
-    if (q == 0) s = 0, c = 1;
-    else if (q == 90) s = 1, c = 0;
-    else if (q == 180) s = 0, c = -1;
-    else if (q == 270) s = -1, c = 0;
-    else s = std::sin(q * kPi / 180.0), c = std::cos(q * kPi / 180.0);
+    if (q == 0)
+        s = 0, c = 1;
+    else if (q == 90)
+        s = 1, c = 0;
+    else if (q == 180)
+        s = 0, c = -1;
+    else if (q == 270)
+        s = -1, c = 0;
+    else
+        s = std::sin(q * kPi / 180.0), c = std::cos(q * kPi / 180.0);
 }
 
 // Scale, then rotate about x, y, z, then translate; scale and rotation act about `pivot`.
@@ -558,7 +598,8 @@ struct Transform {
     Mat3 rotation{1.0};
     bool linear_identity = true;
 
-    Transform(const ObjectDesc& o, const Vec3& pivot_point) : pivot(pivot_point), scale(o.scale), translate(o.translate) {
+    Transform(const ObjectDesc& o, const Vec3& pivot_point)
+        : pivot(pivot_point), scale(o.scale), translate(o.translate) {
         double s, c;
         sincos_deg(o.rotate_deg.x, s, c);
         const Mat3 rx(1, 0, 0, 0, c, s, 0, -s, c);  // GLM matrices are column-major
@@ -605,7 +646,8 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
 
 // Where a face problem is reported, e.g. "objects[2].vertices: polygon is not planar ..." or
 // "objects[4] (mesh meshes/x.obj): face 17 is not planar ...".
-[[noreturn]] void face_error(const std::string& file, const ObjectDesc& o, size_t face, const std::string& problem) {
+[[noreturn]] void face_error(const std::string& file, const ObjectDesc& o, size_t face,
+                             const std::string& problem) {
     // problem reads "polygon is ..." / "polygon has ..."
     const std::string rest = problem.rfind("polygon ", 0) == 0 ? problem.substr(8) : problem;
     if (o.type == "polygon") fail(file, o.place + ".vertices", problem);
@@ -613,8 +655,8 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
     fail(file, fmt::format("{} ({})", o.place, what), fmt::format("face {} {}", face, rest));
 }
 
-Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, const std::string& file,
-            const LoadOptions& options) {
+Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
+            const std::string& file, const LoadOptions& options) {
     Scene scene;
     scene.source = file;
     scene.units = d.units;
@@ -648,7 +690,9 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, 
             const Polygon& p = raw[i][k];
             if (o.triangulate) {
                 auto tris = triangulate_polygon(p, tol, tol);
-                if (!tris) face_error(file, o, k, "polygon cannot be triangulated (its outline crosses itself)");
+                if (!tris)
+                    face_error(file, o, k,
+                               "polygon cannot be triangulated (its outline crosses itself)");
                 out.insert(out.end(), tris->begin(), tris->end());
             } else {
                 if (auto problem = polygon_problem(p, tol, tol)) face_error(file, o, k, *problem);
@@ -710,7 +754,8 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, 
             }
         }
     }
-    if (scene.emitter_count() == 0) fail(file, "objects", "no emitter: no face uses a material with emission > 0");
+    if (scene.emitter_count() == 0)
+        fail(file, "objects", "no emitter: no face uses a material with emission > 0");
 
     // Texel size: the caller's, else the file's, else the bounding-sphere radius / 32.
     if (options.texel_size_user > 0)
@@ -718,24 +763,30 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes, 
     else if (d.texel_size)
         scene.texel_size_user = *d.texel_size;
     else
-        scene.texel_size_user = half_diagonal / 32.0;
+        scene.texel_size_user = half_diagonal / options.texel_divisions;
     const double texel = scene.texel_size_user * scene.normalisation.scale;
     const int cap = options.max_texels_per_side;
-    tbb::parallel_for(size_t(0), scene.faces.size(), [&](size_t k) { build_texel_frame(scene.faces[k], texel, cap); });
+    tbb::parallel_for(size_t(0), scene.faces.size(),
+                      [&](size_t k) { build_texel_frame(scene.faces[k], texel, cap); });
     return scene;
 }
 
 void check_options(const LoadOptions& options) {
     if (!std::isfinite(options.texel_size_user))
-        throw ParameterError(fmt::format("texel size must be finite (got {})", options.texel_size_user));
+        throw ParameterError(
+            fmt::format("texel size must be finite (got {})", options.texel_size_user));
+    if (options.texel_divisions < 1)
+        throw ParameterError(
+            fmt::format("texel divisions must be >= 1 (got {})", options.texel_divisions));
     if (options.max_texels_per_side < 1)
-        throw ParameterError(fmt::format("max texels per side must be >= 1 (got {})", options.max_texels_per_side));
+        throw ParameterError(
+            fmt::format("max texels per side must be >= 1 (got {})", options.max_texels_per_side));
 }
 
 }  // namespace
 
-Scene load_scene_from_string(const std::string& json_text, const std::string& name, const std::string& base_dir,
-                             const LoadOptions& options) {
+Scene load_scene_from_string(const std::string& json_text, const std::string& name,
+                             const std::string& base_dir, const LoadOptions& options) {
     check_options(options);
     const Json root = parse_json(json_text, name);
     const SceneDescription desc = validate(root, name, base_dir);

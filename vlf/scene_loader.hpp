@@ -13,6 +13,8 @@ struct LoadOptions {
     // Texel edge length in user units; <= 0 means: the scene's "settings.texel_size",
     // or when that is absent, the scene's bounding-sphere radius / 32.
     double texel_size_user = 0.0;
+    // ... and when the scene gives none either: its bounding-sphere radius / this.
+    int texel_divisions = 32;
     // A face's texel grid is capped at this many texels per side (the texel size grows
     // for that face only, never silently shrinks the whole scene).
     int max_texels_per_side = 512;

@@ -28,9 +28,9 @@ namespace vlf {
 
 struct SpecularSource {
     int face = 0;
-    Mat3 rotation{1.0};       // of the source PSF (true or perturbed direction)
-    int resolution = 0;       // of the source PSF's ray grid (N, or N * supersample)
-    int i0 = 0, j0 = 0;       // window origin in source pixels
+    Mat3 rotation{1.0};  // of the source PSF (true or perturbed direction)
+    int resolution = 0;  // of the source PSF's ray grid (N, or N * supersample)
+    int i0 = 0, j0 = 0;  // window origin in source pixels
     int width = 0, height = 0;
     std::vector<RgbF> radiance;    // incoming radiance per window pixel
     std::vector<uint8_t> covered;  // 1 where the face covers the pixel

@@ -13,8 +13,8 @@ PsfToTexel psf_to_texel(const Face& face, const Mat3& rotation) {
     const Vec3 ex = rt * Vec3(1, 0, 0), ey = rt * Vec3(0, 1, 0), ez = rt * Vec3(0, 0, 1);
     const TexelFrame& tf = face.texels;
     const double inv = 1.0 / tf.size;
-    const Vec3 gx = ex - ez * (n.x / n.z);   // d p / d x
-    const Vec3 gy = ey - ez * (n.y / n.z);   // d p / d y
+    const Vec3 gx = ex - ez * (n.x / n.z);                       // d p / d x
+    const Vec3 gy = ey - ez * (n.y / n.z);                       // d p / d y
     const Vec3 p0 = ez * (face.plane_offset / n.z) - tf.origin;  // p(0,0) - origin
     PsfToTexel m;
     m.origin = Vec2(glm::dot(p0, tf.axis_u), glm::dot(p0, tf.axis_v)) * inv;

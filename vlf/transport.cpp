@@ -1,6 +1,7 @@
 #include "vlf/transport.hpp"
 
 #include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <chrono>
@@ -34,7 +35,9 @@ double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-double luminance(const Rgb& c) { return (c.x + c.y + c.z) / 3.0; }
+double luminance(const Rgb& c) {
+    return (c.x + c.y + c.z) / 3.0;
+}
 
 struct Scratch {
     std::vector<Rgb> out, in;
@@ -42,7 +45,7 @@ struct Scratch {
     std::unique_ptr<DirectionGeometry> local;  // where a direction's geometry is built
     TileExchange x;
     ExchangeScratch xs;
-    FaceRaster coarse;                 // super-sampling: the face on the N x N grid
+    FaceRaster coarse;  // super-sampling: the face on the N x N grid
     std::vector<int32_t> coarse_index;
     std::vector<Rgb> parent_sum;
     std::vector<int> parent_count;
@@ -54,9 +57,25 @@ struct ChunkResult {
     NumericalLoss lost;
     std::vector<SpecularSource> sources;
     double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
+    // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
+    void reset(size_t texels) {
+        next.assign(texels, Rgb(0.0));
+        absorbed = escaped = Rgb(0.0);
+        lost = NumericalLoss{};
+        sources.clear();
+        rasterise = clipping = exchange = transfer = 0;
+    }
 };
 
 }  // namespace
+
+// Buffers that live as long as the transport: one Scratch per worker thread and the
+// chunk accumulators of a wave, reused by every pass of every cycle (their contents are
+// overwritten, so reuse never changes a result).
+struct Transport::Workspace {
+    tbb::enumerable_thread_specific<Scratch> scratch;
+    std::vector<ChunkResult> chunks;
+};
 
 // Everything of a direction that depends only on geometry: the PSF, the slots of its
 // rays, fragments grouped by face, the beam/texel overlaps (continuous clipping) and the
@@ -67,20 +86,19 @@ struct DirectionGeometry {
     std::vector<uint32_t> tile_base;   // slots: tile_base[ti] + fragment.ray_offset + k
     std::vector<uint32_t> face_begin;  // faces + 1, into frags
     std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
-    std::vector<uint32_t> ov_begin;    // slots + 1, into ov
+    std::vector<uint32_t> ov_begin;                    // slots + 1, into ov
     std::vector<TexelOverlap> ov;
-    std::vector<int32_t> partner;      // per slot: partner slot, kEscaped or kBlocked
+    std::vector<int32_t> partner;  // per slot: partner slot, kEscaped or kBlocked
     // Bytes of an exact-size copy (what the cache holds).
     int64_t bytes() const {
         int64_t b = static_cast<int64_t>(sizeof(DirectionGeometry));
         for (const Tile& t : psf.tiles)
             b += static_cast<int64_t>(sizeof(Tile) + t.fragments.size() * sizeof(Fragment) +
                                       t.spans.size() * sizeof(Span));
-        b += static_cast<int64_t>((tile_base.size() + face_begin.size() + ov_begin.size()) *
-                                      sizeof(uint32_t) +
-                                  frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
-                                  partner.size() * sizeof(int32_t) +
-                                  psf.tile_of.size() * sizeof(int32_t));
+        b += static_cast<int64_t>(
+            (tile_base.size() + face_begin.size() + ov_begin.size()) * sizeof(uint32_t) +
+            frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
+            partner.size() * sizeof(int32_t) + psf.tile_of.size() * sizeof(int32_t));
         return b;
     }
 };
@@ -91,13 +109,12 @@ struct GeometryInputs {
     const Scene& scene;
     const TextureMaps& tex;
     const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
-    double seal_gap;  // exchange.hpp kSealed
+    double seal_gap;                                 // exchange.hpp kSealed
 };
 
 void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
-                    DirectionGeometry& g,
-                    TileExchange& x, ExchangeScratch& xs, double& t_raster, double& t_clip,
-                    double& t_exchange) {
+                    DirectionGeometry& g, TileExchange& x, ExchangeScratch& xs, double& t_raster,
+                    double& t_clip, double& t_exchange) {
     const Scene& scene = in.scene;
     const size_t nf = scene.faces.size();
     auto t0 = Clock::now();
@@ -186,7 +203,6 @@ void for_fragments(const DirectionGeometry& g, uint32_t fb, uint32_t fe, F&& fn)
     }
 }
 
-
 std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
                                        int N, int m) {
     const size_t nf = scene.faces.size();
@@ -241,12 +257,12 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
             pass.rotations.resize(l);
             for (int d = 0; d < l; ++d) pass.rotations[d] = rotation_to_z(r * m_dirs.direction(d));
         }
-        pass.send_norm =
-            p == 0 && s == 1
-                ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
-                : send_normalisers(scene, m_dirs, pass.rotations,
-                                   measure_coverage(scene, pass.rotations,
-                                                    params.field.resolution * s, params.field.tile * s));
+        pass.send_norm = p == 0 && s == 1
+                             ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
+                             : send_normalisers(scene, m_dirs, pass.rotations,
+                                                measure_coverage(scene, pass.rotations,
+                                                                 params.field.resolution * s,
+                                                                 params.field.tile * s));
     }
     m_tex = TextureMaps(scene);
 
@@ -268,6 +284,7 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
+    m_work = std::make_unique<Workspace>();
     m_timings.setup = since(t0);
 }
 
@@ -360,7 +377,8 @@ void Transport::run_pass(int pass, double share) {
         face_unshot[f] = u;
         const Face& face = scene.faces[f];
         for (size_t t = 0; t < m_tex.count(int(f)); ++t)
-            if (face.texel_area[t] > 0.0) exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
+            if (face.texel_area[t] > 0.0)
+                exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
     }
     const GeometryInputs inputs{scene, m_tex, m_polygons, 2.0 / Nc};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
@@ -370,15 +388,16 @@ void Transport::run_pass(int pass, double share) {
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
-    std::vector<ChunkResult> chunks(kWave);
+    std::vector<ChunkResult>& chunks = m_work->chunks;
+    chunks.resize(kWave);
     std::vector<SpecularSource> sources;
     for (int wave = 0; wave < kChunks; wave += kWave) {
         parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
             ChunkResult& res = chunks[c - wave];
-            res = ChunkResult{};
-            res.next.assign(m_tex.texels(), Rgb(0.0));
-            Scratch w;
-            const int d0 = static_cast<int>(c * l / kChunks), d1 = static_cast<int>((c + 1) * l / kChunks);
+            res.reset(m_tex.texels());
+            Scratch& w = m_work->scratch.local();
+            const int d0 = static_cast<int>(c * l / kChunks),
+                      d1 = static_cast<int>((c + 1) * l / kChunks);
             for (int d = d0; d < d1; ++d) {
                 if (m_progress != nullptr) m_progress->advance();
                 const Mat3& rot = rotations[d];
@@ -441,46 +460,53 @@ void Transport::run_pass(int pass, double share) {
                         const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
                         Rgb sampled(0.0);
                         uint32_t rays = 0;
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            for (uint32_t k = 0; k < fr.covered; ++k) {
-                                if (g.partner[base + k] == kSealed) continue;
-                                ++rays;
-                                Rgb p(0.0);
-                                double rowsum = 0.0;
-                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o) {
-                                    p += exitance[tb + g.ov[o].texel] * double(g.ov[o].area);
-                                    rowsum += g.ov[o].area;
+                        for_fragments(
+                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                for (uint32_t k = 0; k < fr.covered; ++k) {
+                                    if (g.partner[base + k] == kSealed) continue;
+                                    ++rays;
+                                    Rgb p(0.0);
+                                    double rowsum = 0.0;
+                                    for (uint32_t o = g.ov_begin[base + k];
+                                         o < g.ov_begin[base + k + 1]; ++o) {
+                                        p += exitance[tb + g.ov[o].texel] * double(g.ov[o].area);
+                                        rowsum += g.ov[o].area;
+                                    }
+                                    if (rowsum > 0.0) p /= rowsum;
+                                    w.out[base + k] = p;
+                                    sampled += p;
                                 }
-                                if (rowsum > 0.0) p /= rowsum;
-                                w.out[base + k] = p;
-                                sampled += p;
-                            }
-                        });
+                            });
                         const Rgb target = face_unshot[f] * wd;
                         Rgb scale(0.0), even(0.0);
                         for (int c = 0; c < 3; ++c) {
-                            if (sampled[c] > 0.0) scale[c] = target[c] / sampled[c];
-                            else if (rays > 0) even[c] = target[c] / rays;  // no ray sees the unshot texels
-                            else res.lost.sealed[c] += target[c];  // every ray is shut
+                            if (sampled[c] > 0.0)
+                                scale[c] = target[c] / sampled[c];
+                            else if (rays > 0)
+                                even[c] = target[c] / rays;  // no ray sees the unshot texels
+                            else
+                                res.lost.sealed[c] += target[c];  // every ray is shut
                         }
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            for (uint32_t k = 0; k < fr.covered; ++k)
-                                if (g.partner[base + k] != kSealed)
-                                    w.out[base + k] = w.out[base + k] * scale + even;
-                        });
+                        for_fragments(g, fb, fe,
+                                      [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                          for (uint32_t k = 0; k < fr.covered; ++k)
+                                              if (g.partner[base + k] != kSealed)
+                                                  w.out[base + k] = w.out[base + k] * scale + even;
+                                      });
                     }
                     if ((spec_store || other_store) && s == 1) {
                         RadianceMaps& maps = spec_store ? m_spec : m_other;
                         const uint64_t mb = maps.begin(d, int(f));
                         VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
                         uint64_t kl = 0;
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
-                                Rgb& o = w.out[base + k];
-                                if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
-                                maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
-                            }
-                        });
+                        for_fragments(
+                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
+                                    Rgb& o = w.out[base + k];
+                                    if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
+                                    maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
+                                }
+                            });
                     } else if (spec_store || other_store) {
                         // Super-sampled: each fine ray takes L_U of its N x N parent ray; the
                         // face's unshot power in this direction is rescaled to be sent whole.
@@ -497,17 +523,20 @@ void Transport::run_pass(int pass, double share) {
                             cj1 = std::max(cj1, ff.t * mc + ff.row_begin + ff.rows - 1);
                         }
                         const int cw = ci1 - ci0 + 1;
-                        w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1), -1);
+                        w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1),
+                                              -1);
                         for (const FaceFragment& ff : w.coarse.fragments)
                             w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int k0) {
                                 static_cast<void>(k0);
-                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = 0;
+                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw +
+                                               (ff.s * mc + u - ci0)] = 0;
                             });
                         {  // local indices in face-local order
                             int32_t k = 0;
                             for (const FaceFragment& ff : w.coarse.fragments)
                                 w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                                    w.coarse_index[size_t(ff.t * mc + v - cj0) * cw + (ff.s * mc + u - ci0)] = k++;
+                                    w.coarse_index[size_t(ff.t * mc + v - cj0) * cw +
+                                                   (ff.s * mc + u - ci0)] = k++;
                                 });
                         }
                         auto parent_of = [&](int i, int j) -> int32_t {
@@ -521,32 +550,40 @@ void Transport::run_pass(int pass, double share) {
                             Rgb unshot(0.0), reach(0.0);
                             for (uint64_t k = 0; k < w.coarse.covered; ++k)
                                 unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-                            for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
-                                    const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
-                                    if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
+                            for_fragments(
+                                g, fb, fe,
+                                [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                    tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
+                                        const int32_t pk =
+                                            parent_of(tile.s * m + u, tile.t * m + v);
+                                        if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
+                                    });
                                 });
-                            });
                             for (int c = 0; c < 3; ++c) {
-                                if (reach[c] > 0.0) scale[c] = unshot[c] / reach[c];
-                                else res.lost.subpixel_mirror[c] += unshot[c];  // no fine ray carries it
+                                if (reach[c] > 0.0)
+                                    scale[c] = unshot[c] / reach[c];
+                                else
+                                    res.lost.subpixel_mirror[c] +=
+                                        unshot[c];  // no fine ray carries it
                             }
                         }
                         w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
                         w.parent_count.assign(w.coarse.covered, 0);
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                                const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
-                                Rgb& o = w.out[base + k];
-                                if (pk < 0) return;
-                                if (spec_store) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
-                                w.parent_sum[pk] += o / beam;
-                                ++w.parent_count[pk];
+                        for_fragments(
+                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                                    const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
+                                    Rgb& o = w.out[base + k];
+                                    if (pk < 0) return;
+                                    if (spec_store) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
+                                    w.parent_sum[pk] += o / beam;
+                                    ++w.parent_count[pk];
+                                });
                             });
-                        });
                         for (uint64_t k = 0; k < w.coarse.covered; ++k)
                             if (w.parent_count[k] > 0)
-                                maps.total[mb + k] += RgbF(w.parent_sum[k] / double(w.parent_count[k]));
+                                maps.total[mb + k] +=
+                                    RgbF(w.parent_sum[k] / double(w.parent_count[k]));
                     }
                 }
 
@@ -574,13 +611,14 @@ void Transport::run_pass(int pass, double share) {
                     const Material& mat = scene.material_of(face);
                     Rgb received(0.0);
                     int imin = N, imax = -1, jmin = N, jmax = -1;
-                    for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                        for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
-                        imin = std::min(imin, tile.s * m);
-                        imax = std::max(imax, tile.s * m + m - 1);
-                        jmin = std::min(jmin, tile.t * m + fr.row_begin);
-                        jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
-                    });
+                    for_fragments(
+                        g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                            for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
+                            imin = std::min(imin, tile.s * m);
+                            imax = std::max(imax, tile.s * m + m - 1);
+                            jmin = std::min(jmin, tile.t * m + fr.row_begin);
+                            jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
+                        });
                     if (received.x <= 0 && received.y <= 0 && received.z <= 0) continue;
                     res.absorbed += received * (Rgb(1.0) - mat.diffuse - mat.specular);
                     if (mat.is_diffuse()) {
@@ -595,13 +633,15 @@ void Transport::run_pass(int pass, double share) {
                                 const Rgb p = w.in[base + k] * mat.diffuse;
                                 if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
                                 double rowsum = 0.0;
-                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                for (uint32_t o = g.ov_begin[base + k];
+                                     o < g.ov_begin[base + k + 1]; ++o)
                                     rowsum += g.ov[o].area;
                                 if (rowsum <= 0.0) {
                                     res.lost.empty_footprint += p;
                                     continue;
                                 }
-                                for (uint32_t o = g.ov_begin[base + k]; o < g.ov_begin[base + k + 1]; ++o)
+                                for (uint32_t o = g.ov_begin[base + k];
+                                     o < g.ov_begin[base + k + 1]; ++o)
                                     res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
                             }
                         }
@@ -613,7 +653,8 @@ void Transport::run_pass(int pass, double share) {
                         src.resolution = N;
                         src.power = received * mat.specular;
                         const int facing = (rot * face.normal).z > 0 ? 1 : -1;
-                        const Vec3 incoming = omega * double(-facing);  // light travels towards the face
+                        const Vec3 incoming =
+                            omega * double(-facing);  // light travels towards the face
                         src.targets = specular_targets(m_dirs, face, incoming, m_coverage, nf,
                                                        src.target_direction, src.target_weight);
                         if (src.targets == 0) {
@@ -626,14 +667,15 @@ void Transport::run_pass(int pass, double share) {
                         src.height = jmax - jmin + 1;
                         src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
                         src.covered.assign(size_t(src.width) * src.height, 0);
-                        for_fragments(g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                                const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
-                                                  (tile.s * m + u - src.i0);
-                                src.radiance[at] = RgbF(w.in[base + k] / beam);
-                                src.covered[at] = 1;
+                        for_fragments(
+                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                                tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                                    const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
+                                                      (tile.s * m + u - src.i0);
+                                    src.radiance[at] = RgbF(w.in[base + k] / beam);
+                                    src.covered[at] = 1;
+                                });
                             });
-                        });
                         res.sources.push_back(std::move(src));
                     }
                 }

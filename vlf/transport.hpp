@@ -60,7 +60,7 @@ struct TransportTimings {
 };
 
 class Transport {
-public:
+  public:
     Transport(const Scene& scene, const PropagateParams& params);
     ~Transport();
     Transport(const Transport&) = delete;
@@ -98,7 +98,7 @@ public:
     // the user's units (area scale^-2).
     double to_user_power() const;
 
-private:
+  private:
     void load_emission(LedgerEntry& e);
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
@@ -113,22 +113,24 @@ private:
     const Scene& m_scene;
     PropagateParams m_params;
     DirectionSet m_dirs;
-    std::vector<Mat3> m_rot;             // per direction (= m_passes[0].rotations)
-    std::vector<uint32_t> m_coverage;    // d * faces + f: covered rays on the N x N grid
-    std::vector<Pass> m_passes;          // the true directions, then each perturbation
+    std::vector<Mat3> m_rot;           // per direction (= m_passes[0].rotations)
+    std::vector<uint32_t> m_coverage;  // d * faces + f: covered rays on the N x N grid
+    std::vector<Pass> m_passes;        // the true directions, then each perturbation
     TextureMaps m_tex;
-    RadianceMaps m_spec;                 // L_U, L_T of specular faces
-    RadianceMaps m_other;                // L_T of the other faces (--store-all-rays)
-    std::vector<uint8_t> m_deferred;     // per face, this cycle
+    RadianceMaps m_spec;                        // L_U, L_T of specular faces
+    RadianceMaps m_other;                       // L_T of the other faces (--store-all-rays)
+    std::vector<uint8_t> m_deferred;            // per face, this cycle
     std::vector<std::vector<Vec2>> m_polygons;  // per face: its polygon in texel coordinates
-    RimPools m_pools;                    // rim texels and the texels they pool with
+    RimPools m_pools;                           // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;
-    LedgerEntry m_running;               // cumulative absorbed/escaped/emitted
-    double m_mean_reflectance = 0.0;     // rho_S of §4.5 eq. (4)
+    LedgerEntry m_running;            // cumulative absorbed/escaped/emitted
+    double m_mean_reflectance = 0.0;  // rho_S of §4.5 eq. (4)
     TransportTimings m_timings;
     std::atomic<int64_t> m_cache_used{0};  // bytes of geometry in m_cache
     class Progress* m_progress = nullptr;
     std::vector<std::unique_ptr<DirectionGeometry>> m_cache;  // pass * l + d
+    struct Workspace;
+    std::unique_ptr<Workspace> m_work;
 };
 
 }  // namespace vlf
