@@ -269,10 +269,10 @@ TEST(ImageMetric, ErrorAwayFromEmittersIgnoresTheLampAndItsRim) {
     EXPECT_NEAR(e.ratio_away.x, 1.1, 1e-12);
     EXPECT_NEAR(e.ratio_away.y, 0.95, 1e-12);
     EXPECT_NEAR(e.ratio_away.z, 1.0, 1e-12);
-    EXPECT_GT(e.rmse, 0.3);  // the lamp's 12 of 17 and the rim's 4 of 3.7 dominate
+    EXPECT_GT(e.rmse, 0.3);  // the lamp pixel (off by 12) and its rim dominate
     EXPECT_NEAR(e.rmse, relative_rmse(im, ref), 1e-15);
     EXPECT_NEAR(relative_rmse(im, ref, away_from(emitters)), e.rmse_away, 1e-15);
-    // Without the rim (radius 0), the rim's errors come back in.
+    // Excluding the lamp pixel alone (radius 0), the errors of its rim come back in.
     EXPECT_GT(relative_rmse(im, ref, away_from(emitters, 0)), 0.4);
     EXPECT_THROW(image_error(im, ref, mask_of(w, h + 1, {})), Error);
     EXPECT_THROW(mean_ratio(im, gradient(w, h + 1), away_from(emitters)), Error);
