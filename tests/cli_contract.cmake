@@ -119,4 +119,26 @@ foreach(key total back_face sealed empty_footprint grazing_mirror subpixel_mirro
 endforeach()
 string(JSON rss GET "${report}" memory_bytes peak_rss)
 string(JSON params GET "${report}" parameters cycles)
+
+# walkthrough --reference: the error figures, and a reference of another size is one line.
+function(expect_out_contains text)
+  string(FIND "${LAST_OUT}" "${text}" pos)
+  if(pos EQUAL -1)
+    message(FATAL_ERROR "stdout lacks '${text}': ${LAST_OUT}")
+  endif()
+endfunction()
+set(SMALL "${WORK_DIR}/small.vlf")
+expect_exit(2 ${WALKTHROUGH} ${SMALL} --size 16x16 --pixel-samples 0 -o "${WORK_DIR}/p.png")
+expect_err_contains("--pixel-samples")
+expect_exit(0 ${WALKTHROUGH} ${SMALL} --size 16x16 --mode pathtrace --spp 4 -o "${WORK_DIR}/ref.exr")
+expect_exit(0 ${WALKTHROUGH} ${SMALL} --size 16x16 --pixel-samples 2 --reference "${WORK_DIR}/ref.exr"
+            -o "${WORK_DIR}/img.exr")
+expect_out_contains("away from emitters")
+expect_out_contains("mean ratio")
+expect_exit(2 ${WALKTHROUGH} ${SMALL} --size 32x16 --reference "${WORK_DIR}/ref.exr"
+            -o "${WORK_DIR}/wrong-size.exr")
+expect_err_contains("is 16x16, the image 32x16")
+if(EXISTS "${WORK_DIR}/wrong-size.exr")
+  message(FATAL_ERROR "a failed --reference run wrote its image")
+endif()
 message(STATUS "cli contract holds")

@@ -58,8 +58,8 @@ std::vector<uint8_t> tone_map_srgb8(const Image& im, double exposure) {
             double x = im.pixels[k][c] * scale;
             if (!std::isfinite(x) || x < 0.0) x = x > 0.0 ? 1e30 : 0.0;
             const double mapped = x / (1.0 + x);
-            out[k * 3 + c] =
-                static_cast<uint8_t>(std::clamp(std::lround(srgb_encode(mapped) * 255.0), 0L, 255L));
+            out[k * 3 + c] = static_cast<uint8_t>(
+                std::clamp(std::lround(srgb_encode(mapped) * 255.0), 0L, 255L));
         }
     return out;
 }
@@ -116,19 +116,6 @@ Image read_exr(const std::string& path) {
     } catch (const std::exception& e) {
         throw Error(path + ": cannot read EXR: " + e.what());
     }
-}
-
-double relative_rmse(const Image& a, const Image& ref) {
-    if (a.width != ref.width || a.height != ref.height || a.pixels.size() != ref.pixels.size())
-        throw Error(fmt::format("relative_rmse: image sizes differ ({}x{} vs {}x{})", a.width,
-                                a.height, ref.width, ref.height));
-    double num = 0.0, den = 0.0;
-    for (size_t k = 0; k < a.pixels.size(); ++k) {
-        const Rgb d = a.pixels[k] - ref.pixels[k];
-        num += glm::dot(d, d);
-        den += glm::dot(ref.pixels[k], ref.pixels[k]);
-    }
-    return den > 0.0 ? std::sqrt(num / den) : (num > 0.0 ? INFINITY : 0.0);
 }
 
 }  // namespace vlf

@@ -1,7 +1,7 @@
 // image_io.hpp — walkthrough images on disk (DESIGN §7 "Output"): OpenEXR (linear HDR,
-// half RGB) and PNG (tone-mapped, sRGB). write_image, read_exr and relative_rmse are
-// declared in render.hpp (the walkthrough API) and implemented in image_io.cpp; this
-// header adds the tone-mapping step so tests and tools can reuse it.
+// half RGB) and PNG (tone-mapped, sRGB). write_image and read_exr are declared in
+// render.hpp (the walkthrough API) and implemented in image_io.cpp; this header adds the
+// tone-mapping step so tests and tools can reuse it.
 #pragma once
 
 #include <cstdint>

@@ -27,10 +27,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string to_string(RenderMode m) {
     switch (m) {
-        case RenderMode::Rays: return "rays";
-        case RenderMode::Texture: return "texture";
-        case RenderMode::Raytrace: return "raytrace";
-        case RenderMode::Pathtrace: return "pathtrace";
+        case RenderMode::Rays:
+            return "rays";
+        case RenderMode::Texture:
+            return "texture";
+        case RenderMode::Raytrace:
+            return "raytrace";
+        case RenderMode::Pathtrace:
+            return "pathtrace";
     }
     return "?";
 }
@@ -168,8 +172,7 @@ struct Renderer::Impl {
 
     // Rays (all faces from their stored rays where they have any) or Texture (only faces
     // with rho_s > 0 from rays, the rest from P^T).
-    Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere,
-                     int max_depth) const {
+    Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere, int max_depth) const {
         RayHit hit;
         if (!caster.intersect(eye, dir, 0.0, kInf, hit)) return Rgb(0.0);
         const Face& f = scene.faces[hit.face];
@@ -195,12 +198,29 @@ Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
     if (s.spp < 1 && s.mode == RenderMode::Pathtrace)
         throw ParameterError("--spp: must be at least 1");
     if (s.max_depth < 0) throw ParameterError("max_depth: must be >= 0");
+    if (s.pixel_samples < 1) throw ParameterError("--pixel-samples: must be at least 1");
     const PinholeCamera cam(camera, m_bake.scene.normalisation, s.width, s.height);
     Image im;
     im.width = s.width;
     im.height = s.height;
     im.pixels.assign(size_t(s.width) * s.height, Rgb(0.0));
     const Impl& r = *m_impl;
+    const int k = s.pixel_samples;
+    // Radiance along the primary ray through the image point (px, py).
+    auto shade = [&](double px, double py) {
+        const Vec3 dir = cam.direction(px, py);
+        switch (s.mode) {
+            case RenderMode::Rays:
+                return r.lookup_shade(cam.origin(), dir, true, s.max_depth);
+            case RenderMode::Texture:
+                return r.lookup_shade(cam.origin(), dir, false, s.max_depth);
+            case RenderMode::Raytrace:
+                return r.raytrace(cam.origin(), dir, s.max_depth);
+            case RenderMode::Pathtrace:
+                break;
+        }
+        return Rgb(0.0);
+    };
     parallel_for(0, s.height, [&](long y) {
         for (int x = 0; x < s.width; ++x) {
             Rgb& px = im.at(x, int(y));
@@ -208,18 +228,38 @@ Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
                 px = r.tracer.pixel(cam, x, int(y), s.width, s.spp, s.seed);
                 continue;
             }
-            const Vec3 dir = cam.direction(x + 0.5, y + 0.5);
-            switch (s.mode) {
-                case RenderMode::Rays: px = r.lookup_shade(cam.origin(), dir, true, s.max_depth); break;
-                case RenderMode::Texture:
-                    px = r.lookup_shade(cam.origin(), dir, false, s.max_depth);
-                    break;
-                case RenderMode::Raytrace: px = r.raytrace(cam.origin(), dir, s.max_depth); break;
-                case RenderMode::Pathtrace: break;
-            }
+            Rgb sum(0.0);
+            for (int j = 0; j < k; ++j)
+                for (int i = 0; i < k; ++i) sum += shade(x + (i + 0.5) / k, y + (j + 0.5) / k);
+            px = sum / double(k * k);
         }
     });
     return im;
+}
+
+PixelMask Renderer::emitter_mask(const Camera& camera, int width, int height, int k) const {
+    if (k < 1) throw ParameterError("emitter_mask: k must be at least 1");
+    const PinholeCamera cam(camera, m_bake.scene.normalisation, width, height);
+    const Scene& scene = m_bake.scene;
+    PixelMask mask;
+    mask.width = width;
+    mask.height = height;
+    mask.on.assign(size_t(width) * height, 0);
+    parallel_for(0, height, [&](long y) {
+        for (int x = 0; x < width; ++x) {
+            bool seen = false;
+            for (int j = 0; j < k && !seen; ++j)
+                for (int i = 0; i < k && !seen; ++i) {
+                    const Vec3 dir = cam.direction(x + (i + 0.5) / k, y + (j + 0.5) / k);
+                    RayHit hit;
+                    if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kInf, hit)) continue;
+                    const Face& f = scene.faces[hit.face];
+                    seen = glm::dot(dir, f.normal) < 0.0 && scene.material_of(f).is_emitter();
+                }
+            mask.on[size_t(y) * width + x] = seen ? 1 : 0;
+        }
+    });
+    return mask;
 }
 
 }  // namespace vlf

@@ -31,9 +31,13 @@ struct RenderSettings {
     int width = 512;
     int height = 512;
     RenderMode mode = RenderMode::Texture;
-    int spp = 64;          // pathtrace samples per pixel (other modes: 1 ray per pixel centre)
-    int max_depth = 16;    // mirror bounces (raytrace) / path length (pathtrace)
-    uint64_t seed = 1;     // pathtrace random streams, seeded per pixel
+    int spp = 64;  // pathtrace samples per pixel (jittered over the pixel's area)
+    // Lookup modes: k x k primary rays per pixel on a regular grid, at (x + (i+0.5)/k,
+    // y + (j+0.5)/k), averaged (a box filter over the pixel's area, the footprint of the
+    // path tracer's pixels). 1 = one ray through the pixel centre. Not used by pathtrace.
+    int pixel_samples = 1;
+    int max_depth = 16;  // mirror bounces (raytrace) / path length (pathtrace)
+    uint64_t seed = 1;   // pathtrace random streams, seeded per pixel
 };
 
 // Linear radiance image, row-major, row 0 at the top.
@@ -44,8 +48,15 @@ struct Image {
     const Rgb& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
 };
 
+// One flag per pixel, row-major, row 0 at the top (the layout of Image).
+struct PixelMask {
+    int width = 0, height = 0;
+    std::vector<uint8_t> on;
+    bool at(int x, int y) const { return on[size_t(y) * width + x] != 0; }
+};
+
 class Renderer {
-public:
+  public:
     explicit Renderer(const Bake& bake);  // the bake must outlive the renderer
     ~Renderer();
     Renderer(const Renderer&) = delete;
@@ -54,9 +65,17 @@ public:
     // Camera in the user's scene units (as in the scene file). Parallel over rows.
     Image render(const Camera& camera, const RenderSettings& settings) const;
 
+    // Pixels that see an emitting face (Material::is_emitter) from its front: set when
+    // any of the pixel's k x k primary rays (the grid of RenderSettings::pixel_samples)
+    // hits one first. Geometric — it reads no radiance — so it marks the pixels whose
+    // value is the lamp's exact emission, in every mode and in the reference alike. Lamps
+    // seen in a mirror are not marked. Camera in user units; throws ParameterError for
+    // k < 1 or a bad size.
+    PixelMask emitter_mask(const Camera& camera, int width, int height, int k) const;
+
     const Bake& bake() const { return m_bake; }
 
-private:
+  private:
     struct Impl;
     const Bake& m_bake;
     std::unique_ptr<Impl> m_impl;
@@ -68,7 +87,6 @@ private:
 void write_image(const std::string& path, const Image& image, double exposure = 0.0);
 Image read_exr(const std::string& path);  // throws Error
 
-// Relative RMSE of `a` against the reference `ref`: sqrt(sum |a-ref|^2 / sum |ref|^2).
-double relative_rmse(const Image& a, const Image& ref);
+// Image error against a reference (relative_rmse, mean_ratio, image_error): image_metrics.hpp.
 
 }  // namespace vlf

@@ -1,7 +1,8 @@
 // walkthrough — renders views of a VLF bake by lookup (VLF §6; DESIGN §7). Thin: options
 // in, the library renders; errors print one line `walkthrough: ...` and exit 2.
-#include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -11,12 +12,11 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "vlf/bake.hpp"
 #include "vlf/camera.hpp"
 #include "vlf/cli_main.hpp"
 #include "vlf/error.hpp"
+#include "vlf/image_metrics.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/progress.hpp"
 #include "vlf/render.hpp"
@@ -29,11 +29,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Sub-pixel rays per side of the emitter mask behind --reference's "away from emitters":
+// fixed, so the figures do not depend on --pixel-samples; as fine as the accuracy tests.
+constexpr int kEmitterMaskSamples = 16;
+constexpr int kMaxPixelSamples = 64;
+
 struct Options {
     std::string bake, camera, eye, look_at, up, size = "512x512", mode = "texture", output, path;
     std::string format = "png", reference;
     double fov = 0.0, exposure = 0.0;
-    int spp = 64, threads = 0, max_depth = 16;
+    int spp = 64, threads = 0, max_depth = 16, pixel_samples = 1;
     uint64_t seed = 1;
     bool interactive = false;
 };
@@ -41,24 +46,28 @@ struct Options {
 // The camera the options ask for: --camera NAME, or --eye/--look-at[/--up/--fov] on top of
 // the scene's first camera (or defaults), or the scene's first camera.
 vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
-    const bool explicit_view = !o.eye.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0;
+    const bool explicit_view =
+        !o.eye.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0;
     if (!o.camera.empty()) {
         if (explicit_view)
-            throw vlf::ParameterError("--camera: cannot be combined with --eye/--look-at/--up/--fov");
+            throw vlf::ParameterError(
+                "--camera: cannot be combined with --eye/--look-at/--up/--fov");
         for (const vlf::Camera& c : scene.cameras)
             if (c.name == o.camera) return c;
         std::string names;
         for (const vlf::Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + c.name;
-        throw vlf::ParameterError("--camera: unknown camera '" + o.camera + "' (the scene has: " +
-                                  (names.empty() ? "none" : names) + ")");
+        throw vlf::ParameterError("--camera: unknown camera '" + o.camera +
+                                  "' (the scene has: " + (names.empty() ? "none" : names) + ")");
     }
     vlf::Camera cam;
-    if (!scene.cameras.empty()) cam = scene.cameras.front();
+    if (!scene.cameras.empty())
+        cam = scene.cameras.front();
     else if (!explicit_view)
         throw vlf::ParameterError("the scene has no camera: give --camera or --eye and --look-at");
     if (explicit_view) {
         if (scene.cameras.empty() && (o.eye.empty() || o.look_at.empty()))
-            throw vlf::ParameterError("--eye and --look-at are both needed (the scene has no camera)");
+            throw vlf::ParameterError(
+                "--eye and --look-at are both needed (the scene has no camera)");
         cam.name = "command line";
         if (!o.eye.empty()) cam.eye = vlf::parse_vec3(o.eye, "--eye");
         if (!o.look_at.empty()) cam.look_at = vlf::parse_vec3(o.look_at, "--look-at");
@@ -72,7 +81,8 @@ vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
 void check_writable_dir(const fs::path& dir, const std::string& what) {
     std::error_code ec;
     const fs::path d = dir.empty() ? fs::path(".") : dir;
-    if (!fs::is_directory(d, ec)) throw vlf::Error(what + ": directory " + d.string() + " does not exist");
+    if (!fs::is_directory(d, ec))
+        throw vlf::Error(what + ": directory " + d.string() + " does not exist");
 }
 
 int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderSettings& rs) {
@@ -90,8 +100,10 @@ int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderS
     for (int k = 0; k < path.frames; ++k) {
         const auto t0 = std::chrono::steady_clock::now();
         const vlf::Image im = renderer.render(path.frame(k), rs);
-        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        vlf::write_image((dir / fmt::format("frame_{:04d}.{}", k, o.format)).string(), im, o.exposure);
+        seconds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        vlf::write_image((dir / fmt::format("frame_{:04d}.{}", k, o.format)).string(), im,
+                         o.exposure);
         bar.advance();
     }
     bar.finish();
@@ -114,14 +126,22 @@ int run(const Options& o) {
     if (o.spp < 1) throw vlf::ParameterError("--spp: must be at least 1");
     if (o.threads < 0) throw vlf::ParameterError("--threads: must be >= 0");
     if (o.max_depth < 0) throw vlf::ParameterError("--max-depth: must be >= 0");
+    if (o.pixel_samples < 1 || o.pixel_samples > kMaxPixelSamples)
+        throw vlf::ParameterError(
+            fmt::format("--pixel-samples: {} outside 1..{}", o.pixel_samples, kMaxPixelSamples));
+    if (o.pixel_samples != 1 && o.interactive)
+        throw vlf::ParameterError("--pixel-samples: not used by --interactive");
     rs.spp = o.spp;
+    rs.pixel_samples = o.pixel_samples;
     rs.max_depth = o.max_depth;
     rs.seed = o.seed;
     if (!std::isfinite(o.exposure)) throw vlf::ParameterError("--exposure: must be finite");
     if (!o.interactive && o.output.empty()) throw vlf::ParameterError("-o: an output is required");
     if (!o.path.empty()) {
         if (fs::exists(o.output) && !fs::is_directory(o.output))
-            throw vlf::Error(o.output + ": exists and is not a directory (--path writes frames into a directory)");
+            throw vlf::Error(
+                o.output +
+                ": exists and is not a directory (--path writes frames into a directory)");
     } else if (!o.output.empty()) {
         std::string ext = fs::path(o.output).extension().string();
         for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -129,6 +149,18 @@ int run(const Options& o) {
             throw vlf::ParameterError("-o: " + o.output + ": unknown image extension '" + ext +
                                       "' (use .exr or .png)");
         check_writable_dir(fs::path(o.output).parent_path(), "-o");
+    }
+    // The reference is small and read before the bundle, so a wrong size fails at once.
+    vlf::Image reference;
+    if (!o.reference.empty()) {
+        if (!o.path.empty() || o.interactive)
+            throw vlf::ParameterError("--reference: only with a single image (-o IMAGE)");
+        reference = vlf::read_exr(o.reference);
+        if (reference.width != rs.width || reference.height != rs.height)
+            throw vlf::ParameterError(
+                fmt::format("--reference: {} is {}x{}, the image {}x{} (render with --size {}x{})",
+                            o.reference, reference.width, reference.height, rs.width, rs.height,
+                            reference.width, reference.height));
     }
 
     const vlf::ThreadLimit limit(o.threads);
@@ -154,13 +186,24 @@ int run(const Options& o) {
     const vlf::Image im = renderer.render(cam, rs);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     vlf::write_image(o.output, im, o.exposure);
-    if (!o.reference.empty())
-        std::printf("walkthrough: relative RMSE against %s: %.5f\n", o.reference.c_str(),
-                    vlf::relative_rmse(im, vlf::read_exr(o.reference)));
-    std::printf("walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width,
-                rs.height, vlf::to_string(rs.mode).c_str(),
-                rs.mode == vlf::RenderMode::Pathtrace ? fmt::format(", {} spp", rs.spp).c_str() : "",
-                s, o.output.c_str());
+    if (!o.reference.empty()) {
+        const vlf::PixelMask emitters =
+            renderer.emitter_mask(cam, rs.width, rs.height, kEmitterMaskSamples);
+        const vlf::ImageError e = vlf::image_error(im, reference, emitters);
+        std::printf(
+            "walkthrough: against %s: relative RMSE %.5f whole image, %.5f away from emitters "
+            "(%zu of %zu pixels)\n",
+            o.reference.c_str(), e.rmse, e.rmse_away, e.away_pixels, e.pixels);
+        std::printf(
+            "walkthrough: mean ratio image/reference away from emitters (R G B): %.4f %.4f "
+            "%.4f\n",
+            e.ratio_away.x, e.ratio_away.y, e.ratio_away.z);
+    }
+    std::printf(
+        "walkthrough: %s %dx%d (%s%s) in %.3f s -> %s\n", cam.name.c_str(), rs.width, rs.height,
+        vlf::to_string(rs.mode).c_str(),
+        rs.mode == vlf::RenderMode::Pathtrace ? fmt::format(", {} spp", rs.spp).c_str() : "", s,
+        o.output.c_str());
     return 0;
 }
 
@@ -168,8 +211,9 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
     Options o;
-    CLI::App app{"walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"
-                 "Example: walkthrough out/cornell.vlf --camera default -o out/cornell.png"};
+    CLI::App app{
+        "walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"
+        "Example: walkthrough out/cornell.vlf --camera default -o out/cornell.png"};
     app.add_option("bake", o.bake, "Bake bundle written by propagate (OUT.vlf)")->required();
     app.add_option("--camera", o.camera, "Named camera of the scene (default: the first)");
     app.add_option("--eye", o.eye, "Eye position x,y,z (scene units)");
@@ -177,18 +221,26 @@ int main(int argc, char** argv) {
     app.add_option("--up", o.up, "Up vector x,y,z");
     app.add_option("--fov", o.fov, "Vertical field of view, degrees");
     app.add_option("--size", o.size, "Image size WxH")->capture_default_str();
-    app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")->capture_default_str();
+    app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")
+        ->capture_default_str();
     app.add_option("--spp", o.spp, "Samples per pixel (pathtrace)")->capture_default_str();
-    app.add_option("--max-depth", o.max_depth, "Mirror bounces (raytrace and the lookup modes' fallback)")
+    app.add_option("--pixel-samples", o.pixel_samples,
+                   "K: KxK rays per pixel, box-filtered (lookup modes; 1 = pixel centre)")
+        ->capture_default_str();
+    app.add_option("--max-depth", o.max_depth,
+                   "Mirror bounces (raytrace and the lookup modes' fallback)")
         ->capture_default_str();
     app.add_option("--seed", o.seed, "Random seed (pathtrace)")->capture_default_str();
     app.add_option("--threads", o.threads, "Worker threads (0 = all cores)")->capture_default_str();
-    app.add_option("--exposure", o.exposure, "Exposure in stops for PNG output")->capture_default_str();
+    app.add_option("--exposure", o.exposure, "Exposure in stops for PNG output")
+        ->capture_default_str();
     app.add_option("--path", o.path, "Camera path (JSON keyframes); -o is then a directory");
-    app.add_option("--format", o.format, "Frame format with --path: png | exr")->capture_default_str();
+    app.add_option("--format", o.format, "Frame format with --path: png | exr")
+        ->capture_default_str();
     app.add_option("-o,--output", o.output, "Image to write (.exr linear, .png tone-mapped)");
     app.add_option("--reference", o.reference,
-                   "Reference EXR of the same view: print the relative RMSE against it");
+                   "Reference EXR of the same view and size: print the relative RMSE (whole "
+                   "image and away from emitters) and the mean ratio away from emitters");
     app.add_flag("--interactive", o.interactive, "Open the interactive window (GLFW)");
     return vlf::cli_main(app, argc, argv, "walkthrough", [&] { return run(o); });
 }
