@@ -85,8 +85,14 @@ void build_exchange(const Scene& scene, const Psf& psf, const Tile& tile, TileEx
                 out.partner[slot] = next->fragment;
                 out.partner_ray[slot] = next->k;
             } else {
-                out.partner[slot] =
-                    std::abs(next->depth - cur.depth) < seal_gap ? kSealed : kBlocked;
+                // Sealed: the back in front is a parallel face of the same orientation
+                // within the gap (sealed_areas.hpp), not any back face that happens to be
+                // near (a wall standing on the floor absorbs what the floor sends into it).
+                const Face& a = scene.faces[tile.fragments[cur.fragment].face];
+                const Face& b = scene.faces[tile.fragments[next->fragment].face];
+                const bool sealed = std::abs(next->depth - cur.depth) < seal_gap &&
+                                    glm::dot(a.normal, b.normal) > 1.0 - 1e-6;
+                out.partner[slot] = sealed ? kSealed : kBlocked;
             }
         }
     }

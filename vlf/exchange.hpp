@@ -17,8 +17,9 @@ namespace vlf {
 // Partner codes besides a fragment index.
 inline constexpr int32_t kEscaped = -1;  // nothing in front of P along its front side
 inline constexpr int32_t kBlocked = -2;  // the next surface in front of P shows its back
-// ... within `seal_gap` of P: P is pressed against the back of another surface (a lamp
-// just under a ceiling, a mirror panel on a wall), so the ray is shut, not a path.
+// ... a parallel face of the same orientation within `seal_gap` of P: P is pressed
+// against the back of another surface (a lamp just under a ceiling, a mirror panel on a
+// wall), so the ray is shut, not a path (sealed_areas.hpp).
 inline constexpr int32_t kSealed = -3;
 
 struct TileExchange {

@@ -55,7 +55,9 @@ nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps) {
     const double s2 = scene.normalisation.scale * scene.normalisation.scale;
     for (const Face& f : scene.faces) {
         const Rgb total = TextureMaps::sum(maps.total, maps.begin(f.id), maps.count(f.id));
-        const Rgb mean = f.area > 0 ? total / (kPi * f.area) : Rgb(0.0);
+        double open = 0.0;  // the area that sends and receives (sealed_areas.hpp)
+        for (double a : f.texel_area) open += a;
+        const Rgb mean = open > 0 ? total / (kPi * open) : Rgb(0.0);
         Rgb lo(1e300), hi(-1e300);
         const double half = 0.5 * f.texels.size * f.texels.size;
         bool any = false;

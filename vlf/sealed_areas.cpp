@@ -90,7 +90,6 @@ void subtract_sealed_areas(Scene& scene, double gap) {
                             clipped_area(covered, Vec2(u, v), Vec2(u + 1, v + 1)) * cell;
                         a = std::max(0.0, a - cut);
                     }
-                f.area = std::max(0.0, f.area - std::abs(signed_area(covered)) * cell);
             }
         }
     }

@@ -5,7 +5,7 @@
 // it meets the back of the panel at once (exchange.hpp, kSealed). A texel straddling the
 // panel's rim would otherwise average its lit part with the dark part behind the panel
 // and show the wall next to the panel up to 15 % dark. So the sealed part is taken out of
-// each texel's area (and the face's), exactly: the polygon of the face in front, projected
+// each texel's area (the face's area stays its polygon's), exactly: the polygon of the face in front, projected
 // onto the face, ∩ the face ∩ the texel. Radiance is then power over the open area.
 //
 // "Right behind": a face g whose plane is parallel to f's with the same orientation
@@ -16,7 +16,7 @@
 
 namespace vlf {
 
-// Subtracts from every face's texel areas (and area) what faces within `gap` in front of
+// Subtracts from every face's texel areas what faces within `gap` in front of
 // it cover. Faces of any orientation are grouped by normal, so the cost is about
 // n log n plus the pairs that are really that close.
 void subtract_sealed_areas(Scene& scene, double gap);

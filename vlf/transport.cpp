@@ -53,14 +53,14 @@ struct Scratch {
 
 struct ChunkResult {
     std::vector<Rgb> next;
-    Rgb absorbed{0.0}, escaped{0.0};
+    Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
     NumericalLoss lost;
     std::vector<SpecularSource> sources;
     double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
     // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
     void reset(size_t texels) {
         next.assign(texels, Rgb(0.0));
-        absorbed = escaped = Rgb(0.0);
+        absorbed = absorbed_back = escaped = Rgb(0.0);
         lost = NumericalLoss{};
         sources.clear();
         rasterise = clipping = exchange = transfer = 0;
@@ -597,7 +597,7 @@ void Transport::run_pass(int pass, double share) {
                     } else if (p == kSealed) {
                         res.lost.sealed += w.out[slot];  // a mirror's light into a shut ray
                     } else {
-                        res.lost.back_face += w.out[slot];
+                        res.absorbed_back += w.out[slot];  // a one-sided face's black back
                     }
                 }
                 res.transfer += since(t0);
@@ -690,6 +690,7 @@ void Transport::run_pass(int pass, double share) {
             for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
             m_running.absorbed += c.absorbed;
             m_running.escaped += c.escaped;
+            m_running.absorbed_back += c.absorbed_back;
             m_running.lost += c.lost;
             m_timings.rasterise += c.rasterise;
             m_timings.clipping += c.clipping;
@@ -755,6 +756,7 @@ void Transport::run_cycle(bool last) {
     e.emitted = m_running.emitted * u;
     e.absorbed = m_running.absorbed * u;
     e.escaped = m_running.escaped * u;
+    e.absorbed_back = m_running.absorbed_back * u;
     e.lost = m_running.lost * u;
     e.unshot = unshot * u;
     e.deferred = deferred * u;
