@@ -168,7 +168,18 @@ void expect_texels_cover_faces(const Scene& s, double texel_size_normalised, int
             EXPECT_LE(a, t.size * t.size * (1 + 1e-12));
             sum += a;
         }
-        EXPECT_NEAR(sum, f.area, 1e-9 * f.area) << "face " << f.id;
+        // The texels cover the face, less what a face right in front of it seals
+        // (sealed_areas.hpp; exact figures in tests/sealed_areas_test.cpp).
+        bool behind_another = false;
+        for (const Face& g : s.faces) {
+            const double d = g.plane_offset - f.plane_offset;
+            behind_another = behind_another ||
+                             (glm::dot(g.normal, f.normal) > 1 - 1e-6 && d > 0 && d <= s.seal_gap);
+        }
+        if (behind_another)
+            EXPECT_LE(sum, f.area * (1 + 1e-9)) << "face " << f.id;
+        else
+            EXPECT_NEAR(sum, f.area, 1e-9 * f.area) << "face " << f.id;
         for (const Vec3& v : f.vertices) {
             const Vec2 c = t.to_texel(v);
             EXPECT_GE(c.x, -1e-9);
