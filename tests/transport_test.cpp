@@ -14,6 +14,7 @@
 #include "test_util.hpp"
 #include "vlf/parallel.hpp"
 #include "vlf/propagation.hpp"
+#include "vlf/quality.hpp"
 #include "vlf/scene_loader.hpp"
 
 namespace vlf {
@@ -241,7 +242,17 @@ TEST(TransportFurnace, EveryTexelWithin5PercentAtDefaults) {
     EXPECT_LT(e.worst, 0.05);
 }
 
-// The refinements of the final preset (perturbation, filter, super-sampling): within 2 %.
+// The refinements the demo uses (the preview preset: l = 2049, filter sigma = 1 texel):
+// within 2 %.
+TEST(TransportFurnace, EveryTexelWithin2PercentWithThePreviewPreset) {
+    PropagateParams p = quality_params(Quality::Preview);
+    p.cycles = 3;
+    p.stop_unshot = 0.0;
+    const TexelErrors e = furnace_errors(p);
+    EXPECT_LT(e.worst, 0.02);
+}
+
+// Perturbation, filter and super-sampling together: within 2 % as well.
 TEST(TransportFurnace, EveryTexelWithin2PercentWithTheRefinements) {
     PropagateParams p;
     p.cycles = 3;
