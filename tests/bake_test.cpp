@@ -3,6 +3,7 @@
 // refused with a message naming the bundle and the part.
 #include "vlf/bake.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -273,7 +274,7 @@ TEST_F(BakeBundle, RoundTrip) {
     EXPECT_EQ(b.manifest["ledger"], a.manifest["ledger"]);
     EXPECT_FALSE(b.manifest["ledger"].empty());
     EXPECT_EQ(b.manifest["format"], "vlf-bake");
-    EXPECT_EQ(b.manifest["version"], 1);
+    EXPECT_EQ(b.manifest["version"], kBakeVersion);
     EXPECT_EQ(b.manifest["units"], "m");
     EXPECT_EQ(b.manifest["files"].size(), 3u);
     ASSERT_EQ(b.directions.size(), 33);
@@ -395,10 +396,12 @@ TEST_F(BakeBundle, CorruptedLightmaps) {
 TEST_F(BakeBundle, OtherFormatVersion) {
     written();
     nlohmann::json m = read_json("manifest.json");
-    m["version"] = 2;
+    m["version"] = kBakeVersion + 1;
     write_json("manifest.json", m);
     expect_refused(
-        {m_bundle, "manifest.json", "format version 2 is not supported (this build reads 1)"});
+        {m_bundle, "manifest.json",
+         fmt::format("format version {} is not supported (this build reads {})", kBakeVersion + 1,
+                     kBakeVersion)});
 }
 
 TEST_F(BakeBundle, NotAManifest) {

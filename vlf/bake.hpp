@@ -29,7 +29,7 @@ namespace vlf {
 class Transport;
 
 inline constexpr const char* kBakeFormat = "vlf-bake";
-inline constexpr int kBakeVersion = 1;
+inline constexpr int kBakeVersion = 2;  // 2: ledger with loss causes, presets (issue 9)
 
 // The stored rays of every direction as layered depth images: for direction d and pixel
 // (i, j), samples [pixel_offset[(d*N + j)*N + i], pixel_offset[... + 1]) of face/radiance.
