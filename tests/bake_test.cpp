@@ -11,8 +11,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <iostream>
+#include <iterator>
 #include <string>
 
 #include "vlf/checksum.hpp"
@@ -314,7 +314,8 @@ TEST_F(BakeBundle, StreamedLightFieldIsTheInMemoryOne) {
         std::ifstream in(f, std::ios::binary);
         return std::string(std::istreambuf_iterator<char>(in), {});
     };
-    const std::string a = bytes(file("lightfield.exr")), b = bytes(fs::path(streamed) / "lightfield.exr");
+    const std::string a = bytes(file("lightfield.exr")),
+                      b = bytes(fs::path(streamed) / "lightfield.exr");
     ASSERT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b) << "sizes " << a.size() << " and " << b.size();
     const Bake back = read_bake(streamed);
@@ -398,10 +399,9 @@ TEST_F(BakeBundle, OtherFormatVersion) {
     nlohmann::json m = read_json("manifest.json");
     m["version"] = kBakeVersion + 1;
     write_json("manifest.json", m);
-    expect_refused(
-        {m_bundle, "manifest.json",
-         fmt::format("format version {} is not supported (this build reads {})", kBakeVersion + 1,
-                     kBakeVersion)});
+    expect_refused({m_bundle, "manifest.json",
+                    fmt::format("format version {} is not supported (this build reads {})",
+                                kBakeVersion + 1, kBakeVersion)});
 }
 
 TEST_F(BakeBundle, NotAManifest) {
