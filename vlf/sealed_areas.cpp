@@ -10,47 +10,6 @@
 
 namespace vlf {
 
-namespace {
-
-double signed_area(const std::vector<Vec2>& p) {
-    double s = 0.0;
-    for (size_t k = 0; k < p.size(); ++k) {
-        const Vec2& a = p[k];
-        const Vec2& b = p[(k + 1) % p.size()];
-        s += a.x * b.y - a.y * b.x;
-    }
-    return 0.5 * s;
-}
-
-// The face's polygon in its own texel coordinates, counter-clockwise.
-std::vector<Vec2> in_texels(const Face& face, const std::vector<Vec3>& vertices) {
-    std::vector<Vec2> p;
-    for (const Vec3& v : vertices) p.push_back(face.texels.to_texel(v));
-    if (signed_area(p) < 0) std::reverse(p.begin(), p.end());
-    return p;
-}
-
-// Convex subject ∩ convex counter-clockwise clip polygon (Sutherland–Hodgman).
-std::vector<Vec2> intersect(std::vector<Vec2> subject, const std::vector<Vec2>& clip) {
-    std::vector<Vec2> out;
-    for (size_t e = 0; e < clip.size() && subject.size() >= 3; ++e) {
-        const Vec2 a = clip[e], d = clip[(e + 1) % clip.size()] - a;
-        auto side = [&](const Vec2& p) { return d.x * (p.y - a.y) - d.y * (p.x - a.x); };
-        out.clear();
-        for (size_t k = 0; k < subject.size(); ++k) {
-            const Vec2& p = subject[k];
-            const Vec2& q = subject[(k + 1) % subject.size()];
-            const double sp = side(p), sq = side(q);
-            if (sp >= 0) out.push_back(p);
-            if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
-        }
-        subject.swap(out);
-    }
-    return subject.size() >= 3 ? subject : std::vector<Vec2>{};
-}
-
-}  // namespace
-
 void subtract_sealed_areas(Scene& scene, double gap) {
     // Faces grouped by orientation (normals equal to 1e-6), each group sorted by offset.
     std::map<std::tuple<long, long, long>, std::vector<int>> groups;
@@ -71,7 +30,8 @@ void subtract_sealed_areas(Scene& scene, double gap) {
                 if (d > gap) break;
                 if (d <= 0.0) continue;  // coplanar: not in front
                 const std::vector<Vec2> covered =
-                    intersect(in_texels(f, g.vertices), in_texels(f, f.vertices));
+                    intersect_convex(polygon_in_texels(f.texels, g.vertices),
+                                     polygon_in_texels(f.texels, f.vertices));
                 if (covered.empty()) continue;
                 double lo_u = covered[0].x, hi_u = lo_u, lo_v = covered[0].y, hi_v = lo_v;
                 for (const Vec2& p : covered) {

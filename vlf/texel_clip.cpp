@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vlf/texel_frame.hpp"
+
 namespace vlf {
 
 PsfToTexel psf_to_texel(const Face& face, const Mat3& rotation) {
@@ -260,21 +262,7 @@ int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon,
 }
 
 std::vector<Vec2> face_in_texels(const Face& face) {
-    const TexelFrame& tf = face.texels;
-    std::vector<Vec2> poly;
-    poly.reserve(face.vertices.size());
-    for (const Vec3& v : face.vertices) {
-        const Vec3 d = v - tf.origin;
-        poly.emplace_back(glm::dot(d, tf.axis_u) / tf.size, glm::dot(d, tf.axis_v) / tf.size);
-    }
-    double twice = 0.0;
-    for (size_t k = 0; k < poly.size(); ++k) {
-        const Vec2& a = poly[k];
-        const Vec2& b = poly[(k + 1) % poly.size()];
-        twice += a.x * b.y - a.y * b.x;
-    }
-    if (twice < 0) std::reverse(poly.begin(), poly.end());
-    return poly;
+    return polygon_in_texels(face.texels, face.vertices);
 }
 
 int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,

@@ -12,7 +12,8 @@ namespace vlf {
 namespace {
 
 // Keeps the part of `in` on the side sign*(x[axis] - bound) >= 0.
-void clip(const std::vector<Vec2>& in, std::vector<Vec2>& out, int axis, double bound, double sign) {
+void clip(const std::vector<Vec2>& in, std::vector<Vec2>& out, int axis, double bound,
+          double sign) {
     out.clear();
     const size_t m = in.size();
     if (m == 0) return;
@@ -52,6 +53,32 @@ double clipped_area(const std::vector<Vec2>& poly, const Vec2& lo, const Vec2& h
     clip(a, b, 1, lo.y, +1);
     clip(b, a, 1, hi.y, -1);
     return std::abs(shoelace(a));
+}
+
+std::vector<Vec2> polygon_in_texels(const TexelFrame& frame, const std::vector<Vec3>& vertices) {
+    std::vector<Vec2> p;
+    p.reserve(vertices.size());
+    for (const Vec3& v : vertices) p.push_back(frame.to_texel(v));
+    if (shoelace(p) < 0) std::reverse(p.begin(), p.end());
+    return p;
+}
+
+std::vector<Vec2> intersect_convex(std::vector<Vec2> subject, const std::vector<Vec2>& clip) {
+    std::vector<Vec2> out;
+    for (size_t e = 0; e < clip.size() && subject.size() >= 3; ++e) {
+        const Vec2 a = clip[e], d = clip[(e + 1) % clip.size()] - a;
+        auto side = [&](const Vec2& p) { return d.x * (p.y - a.y) - d.y * (p.x - a.x); };
+        out.clear();
+        for (size_t k = 0; k < subject.size(); ++k) {
+            const Vec2& p = subject[k];
+            const Vec2& q = subject[(k + 1) % subject.size()];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0) out.push_back(p);
+            if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+        }
+        subject.swap(out);
+    }
+    return subject.size() >= 3 ? subject : std::vector<Vec2>{};
 }
 
 void build_texel_frame(Face& face, double texel_size, int max_texels_per_side) {
@@ -103,7 +130,8 @@ void build_texel_frame(Face& face, double texel_size, int max_texels_per_side) {
 
     // Polygon in continuous texel coordinates.
     std::vector<Vec2> q(m);
-    for (size_t i = 0; i < m; ++i) q[i] = {(glm::dot(p[i], u) - umin) / size, (glm::dot(p[i], v) - vmin) / size};
+    for (size_t i = 0; i < m; ++i)
+        q[i] = {(glm::dot(p[i], u) - umin) / size, (glm::dot(p[i], v) - vmin) / size};
 
     // Clip once per row, then per column inside the row's strip. The outermost rows and
     // columns are not clipped on their outer side, so rounding at the bounding rectangle

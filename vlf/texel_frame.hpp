@@ -21,4 +21,12 @@ void build_texel_frame(Face& face, double texel_size, int max_texels_per_side);
 // exact up to rounding (Sutherland–Hodgman clipping + shoelace).
 double clipped_area(const std::vector<Vec2>& poly, const Vec2& lo, const Vec2& hi);
 
+// `vertices` (points on the face's plane) in the texel coordinates of `frame`, as a
+// counter-clockwise polygon.
+std::vector<Vec2> polygon_in_texels(const TexelFrame& frame, const std::vector<Vec3>& vertices);
+
+// Convex `subject` ∩ the convex counter-clockwise polygon `clip` (Sutherland–Hodgman);
+// empty when they do not overlap in an area.
+std::vector<Vec2> intersect_convex(std::vector<Vec2> subject, const std::vector<Vec2>& clip);
+
 }  // namespace vlf

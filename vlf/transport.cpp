@@ -41,7 +41,6 @@ double luminance(const Rgb& c) {
 
 struct Scratch {
     std::vector<Rgb> out, in;
-    std::vector<double> colsum;
     std::unique_ptr<DirectionGeometry> local;  // where a direction's geometry is built
     TileExchange x;
     ExchangeScratch xs;
