@@ -49,6 +49,7 @@ vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
     if (given("--cycles")) q.cycles = p.cycles;
     if (given("--stop-unshot")) q.stop_unshot = p.stop_unshot;
     if (given("--perturbations")) q.perturbations = p.perturbations;
+    if (given("--perturb-cycles")) q.perturb_cycles = p.perturb_cycles;
     if (given("--filter-sigma")) q.filter_sigma = p.filter_sigma;
     if (given("--supersample")) q.supersample = p.supersample;
     q.threads = p.threads;
@@ -171,6 +172,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-deferred", o.no_deferred, "Disable deferred propagation (VLF §4.5)");
     app.add_option("--perturbations", o.params.perturbations,
                    "Stratified perturbed PSFs per cycle (VLF §5; 0 = off)")
+        ->capture_default_str();
+    app.add_option("--perturb-cycles", o.params.perturb_cycles,
+                   "Cycles that perturb, from the first (VLF §5: the first few suffice)")
         ->capture_default_str();
     app.add_option("--filter-sigma", o.params.filter_sigma,
                    "Gaussian filter of next texture maps, in texels (VLF §5; 0 = off)")

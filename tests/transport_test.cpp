@@ -484,5 +484,26 @@ TEST(TransportDeterminism, CacheBudgetDoesNotChangeTheMaps) {
     expect_same_maps(*all, *some);
 }
 
+// In the last cycle that perturbs, a perturbed pass clips only the rays that carry power
+// (the senders' and their partners'); the maps are those of a fully clipped pass, and the
+// perturbed geometry is released after that cycle.
+TEST(TransportDeterminism, PerturbedPassesClipOnlyWhereLightGoes) {
+    const Scene scene = test_scene("closed-mirror-room.json");
+    PropagateParams p = params(129, 32, 8, 1, true);
+    p.perturbations = 2;
+    p.filter_sigma = 0.7;
+    p.perturb_cycles = 1;  // the only cycle is the last that perturbs: clipped where needed
+    const std::unique_ptr<Transport> lazy = run(scene, p);
+    EXPECT_EQ(lazy->cached_directions(), 129);
+    p.perturb_cycles = 2;  // perturbed geometry built whole and cached for cycle 2
+    const std::unique_ptr<Transport> whole = run(scene, p);
+    EXPECT_EQ(whole->cached_directions(), 3 * 129);
+    expect_same_maps(*lazy, *whole);
+    p.cycles = 3;
+    const std::unique_ptr<Transport> later = run(scene, p);
+    EXPECT_EQ(later->cached_directions(), 129);
+    expect_ledger_closes(*later);
+}
+
 }  // namespace
 }  // namespace vlf

@@ -13,10 +13,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "vlf/direction_set.hpp"
 #include "vlf/parameters.hpp"
@@ -29,7 +28,8 @@ namespace vlf {
 class Transport;
 
 inline constexpr const char* kBakeFormat = "vlf-bake";
-inline constexpr int kBakeVersion = 2;  // 2: ledger with loss causes, presets (issue 9)
+// 2: ledger with loss causes, presets (issue 9); 3: perturb_cycles in the parameters
+inline constexpr int kBakeVersion = 3;
 
 // The stored rays of every direction as layered depth images: for direction d and pixel
 // (i, j), samples [pixel_offset[(d*N + j)*N + i], pixel_offset[... + 1]) of face/radiance.
@@ -50,8 +50,9 @@ struct Bake {
     Scene scene;
     PropagateParams params;
     DirectionSet directions{9};
-    std::vector<Rgb> lightmap_radiance;  // per texel of every face (TextureMaps order), P^T radiance
-    std::vector<size_t> texel_offset;    // faces + 1
+    std::vector<Rgb>
+        lightmap_radiance;             // per texel of every face (TextureMaps order), P^T radiance
+    std::vector<size_t> texel_offset;  // faces + 1
     RayImages rays;
 };
 

@@ -35,6 +35,9 @@ void validate(const PropagateParams& p) {
     if (p.perturbations < 0 || p.perturbations > 64)
         throw ParameterError(
             fmt::format("--perturbations: {} is out of range (0 to 64)", p.perturbations));
+    if (p.perturb_cycles < 1 || p.perturb_cycles > 10000)
+        throw ParameterError(
+            fmt::format("--perturb-cycles: {} is out of range (1 to 10000)", p.perturb_cycles));
     if (!(p.filter_sigma >= 0.0) || p.filter_sigma > 16.0)
         throw ParameterError(
             fmt::format("--filter-sigma: {} is out of range (0 to 16 texels)", p.filter_sigma));
@@ -68,6 +71,7 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["threads"] = p.threads;
     j["deferred"] = p.deferred;
     j["perturbations"] = p.perturbations;
+    j["perturb_cycles"] = p.perturb_cycles;
     j["filter_sigma"] = p.filter_sigma;
     j["supersample"] = p.supersample;
     j["resample"] = p.resample;
@@ -92,6 +96,7 @@ PropagateParams propagate_params_from_json(const nlohmann::json& j) {
         p.threads = j.at("threads").get<int>();
         p.deferred = j.at("deferred").get<bool>();
         p.perturbations = j.at("perturbations").get<int>();
+        p.perturb_cycles = j.at("perturb_cycles").get<int>();
         p.filter_sigma = j.at("filter_sigma").get<double>();
         p.supersample = j.at("supersample").get<int>();
         p.resample = j.at("resample").get<bool>();

@@ -31,6 +31,9 @@ struct PropagateParams {
     int threads = 0;                 // 0: all hardware threads
     bool deferred = true;            // VLF §4.5 deferred propagation
     int perturbations = 0;           // VLF §5 stratified perturbed PSFs per cycle (0: off)
+    // VLF §5: "perturbing the initial few [cycles] is generally adequate"; the later
+    // cycles run the true directions only.
+    int perturb_cycles = 1;
     double filter_sigma = 0.0;    // VLF §5 Gaussian filter of next texture maps, texels (0: off)
     int supersample = 1;          // VLF §5 super-sampled exchange at polygon boundaries (s x s)
     bool resample = true;         // VLF §5 backward ray-traced resampling of specular L_T

@@ -25,7 +25,7 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     const auto t0 = std::chrono::steady_clock::now();
     Propagation run;
     run.transport = std::make_unique<Transport>(scene, params);
-    Progress bar("propagating", params.cycles * run.transport->work_per_cycle(), opts.progress);
+    Progress bar("propagating", run.transport->work(params.cycles), opts.progress);
     run.transport->set_progress(&bar);
     for (int c = 1; c <= params.cycles; ++c) {
         run.transport->run_cycle(c == params.cycles);

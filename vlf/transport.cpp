@@ -112,8 +112,8 @@ struct GeometryInputs {
 };
 
 void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
-                    DirectionGeometry& g, TileExchange& x, ExchangeScratch& xs, double& t_raster,
-                    double& t_clip, double& t_exchange) {
+                    const uint8_t* sending, DirectionGeometry& g, TileExchange& x,
+                    ExchangeScratch& xs, double& t_raster, double& t_clip, double& t_exchange) {
     const Scene& scene = in.scene;
     const size_t nf = scene.faces.size();
     auto t0 = Clock::now();
@@ -137,35 +137,6 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
     }
     t_raster += since(t0);
 
-    // Clip the beams of faces that can hold diffuse power against their texel grids.
-    t0 = Clock::now();
-    g.ov_begin.assign(S + 1, 0);
-    g.ov.clear();
-    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-        const Tile& tile = psf.tiles[ti];
-        for (const Fragment& fr : tile.fragments) {
-            const Face& face = scene.faces[fr.face];
-            const Material& mat = scene.material_of(face);
-            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
-            if (!mat.is_diffuse() && !mat.is_emitter()) {
-                for (uint32_t k = 0; k < fr.covered; ++k)
-                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-                continue;
-            }
-            const PsfToTexel map = psf_to_texel(face, rot);
-            const std::vector<Vec2>& poly = in.polygons[fr.face];
-            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                // The beam's footprint on the face itself: the part of the pixel's
-                // parallelogram inside the polygon, sliced by the texel grid (area-exact at
-                // the rim, docs/propagation.md §3).
-                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, poly,
-                                     face.texels.width, face.texels.height, g.ov);
-                g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-            });
-        }
-    }
-    t_clip += since(t0);
-
     // Exchange partners of every ray (§4.1 exchange buffers), as slots.
     t0 = Clock::now();
     g.partner.assign(S, kEscaped);
@@ -185,6 +156,56 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
             }
     }
     t_exchange += since(t0);
+
+    // Clip the beams of faces that can hold diffuse power against their texel grids. Given
+    // `sending` (a pass whose geometry is used once), only the rays that carry power this
+    // pass: those of the sending faces and their partners; the rest get no overlaps.
+    t0 = Clock::now();
+    std::vector<uint8_t> needed;
+    if (sending != nullptr) {
+        needed.assign(S, 0);
+        for (size_t f = 0; f < nf; ++f) {
+            if (!sending[f]) continue;
+            for (uint32_t q = g.face_begin[f]; q < g.face_begin[f + 1]; ++q) {
+                const auto [ti, fi] = g.frags[q];
+                const uint32_t base = g.tile_base[ti] + psf.tiles[ti].fragments[fi].ray_offset;
+                for (uint32_t k = 0; k < psf.tiles[ti].fragments[fi].covered; ++k) {
+                    needed[base + k] = 1;
+                    if (g.partner[base + k] >= 0) needed[g.partner[base + k]] = 1;
+                }
+            }
+        }
+    }
+    g.ov_begin.assign(S + 1, 0);
+    g.ov.clear();
+    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
+        const Tile& tile = psf.tiles[ti];
+        for (const Fragment& fr : tile.fragments) {
+            const Face& face = scene.faces[fr.face];
+            const Material& mat = scene.material_of(face);
+            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
+            if (!mat.is_diffuse() && !mat.is_emitter()) {
+                for (uint32_t k = 0; k < fr.covered; ++k)
+                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
+                continue;
+            }
+            const PsfToTexel map = psf_to_texel(face, rot);
+            const std::vector<Vec2>& poly = in.polygons[fr.face];
+            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                if (!needed.empty() && !needed[base + k]) {
+                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
+                    return;
+                }
+                // The beam's footprint on the face itself: the part of the pixel's
+                // parallelogram inside the polygon, sliced by the texel grid (area-exact at
+                // the rim, docs/propagation.md §3).
+                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, poly,
+                                     face.texels.width, face.texels.height, g.ov);
+                g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
+            });
+        }
+    }
+    t_clip += since(t0);
 }
 
 }  // namespace
@@ -289,6 +310,12 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
 
 Transport::~Transport() = default;
 
+int64_t Transport::work(int cycles) const {
+    const int perturbed = std::min(cycles, m_params.perturb_cycles);
+    const int64_t passes = int64_t(perturbed) * int64_t(m_passes.size()) + (cycles - perturbed);
+    return passes * m_dirs.size();
+}
+
 int Transport::cached_directions() const {
     int n = 0;
     for (const auto& g : m_cache) n += g != nullptr;
@@ -383,7 +410,9 @@ void Transport::run_pass(int pass, double share) {
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
     // cycle (identical either way, so the budget never changes a map).
     std::unique_ptr<Geometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
-    const int64_t budget = m_params.cache_budget_mib << 20;
+    // A perturbed pass's geometry is not worth keeping in the last cycle that perturbs.
+    const bool reused = pass == 0 || cycles_done() + 1 < m_params.perturb_cycles;
+    const int64_t budget = reused ? m_params.cache_budget_mib << 20 : 0;
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
@@ -405,8 +434,8 @@ void Transport::run_pass(int pass, double share) {
                     gp = cache[d].get();
                 } else {
                     if (!w.local) w.local = std::make_unique<Geometry>();
-                    build_geometry(inputs, rot, d, N, m, *w.local, w.x, w.xs, res.rasterise,
-                                   res.clipping, res.exchange);
+                    build_geometry(inputs, rot, d, N, m, reused ? nullptr : sends.data(), *w.local,
+                                   w.x, w.xs, res.rasterise, res.clipping, res.exchange);
                     gp = w.local.get();
                     if (budget > 0) {
                         // Kept as an exact-size copy: the scratch keeps its grown capacity for
@@ -705,6 +734,15 @@ void Transport::run_pass(int pass, double share) {
     m_timings.specular += since(t0);
 }
 
+void Transport::release_perturbed_geometry() {
+    const size_t l = size_t(m_dirs.size());
+    for (size_t k = l; k < m_cache.size(); ++k)
+        if (m_cache[k]) {
+            m_cache_used.fetch_sub(m_cache[k]->bytes());
+            m_cache[k].reset();
+        }
+}
+
 void Transport::fold_unshot_into_total() {
     for (size_t k = 0; k < m_spec.total.size(); ++k) m_spec.total[k] += m_spec.unshot[k];
 }
@@ -718,8 +756,12 @@ void Transport::run_cycle(bool last) {
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
     m_timings.bookkeeping += since(t0);
 
-    const double share = 1.0 / double(m_passes.size());
-    for (int p = 0; p < int(m_passes.size()); ++p) run_pass(p, share);
+    // VLF §5: the first few cycles perturb (their light comes from the emitters, small and
+    // bright, whose beams leave the holes); the later ones run the true directions only.
+    const bool perturb = e.cycle <= m_params.perturb_cycles;
+    const int passes = perturb ? int(m_passes.size()) : 1;
+    for (int p = 0; p < passes; ++p) run_pass(p, 1.0 / double(passes));
+    if (perturb && e.cycle == m_params.perturb_cycles) release_perturbed_geometry();
 
     // End of cycle: pool, filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
     t0 = Clock::now();

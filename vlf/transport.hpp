@@ -73,8 +73,8 @@ class Transport {
     void fold_unshot_into_total();
     // Advanced by one for every direction of every pass processed (may be null).
     void set_progress(class Progress* progress) { m_progress = progress; }
-    // Directions processed per cycle (all passes): the unit of progress.
-    int64_t work_per_cycle() const { return int64_t(m_dirs.size()) * int64_t(m_passes.size()); }
+    // Directions processed by `cycles` cycles (every pass of each): the unit of progress.
+    int64_t work(int cycles) const;
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }
     const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
 
@@ -103,6 +103,8 @@ class Transport {
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
+    // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
+    void release_perturbed_geometry();
 
     // The direction set of one pass: rotations to +z and the diffuse send normalisers.
     struct Pass {
