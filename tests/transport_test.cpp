@@ -224,6 +224,19 @@ TexelErrors furnace_errors(const PropagateParams& p) {
             ++e.texels;
         }
     e.rms = std::sqrt(sum2 / e.texels);
+    // The report's per-face RMS (about the face mean, area-weighted) is this RMS error: the
+    // face means are exact, so the two agree per face.
+    const nlohmann::json faces = surface_report(scene, tex);
+    for (const Face& f : scene.faces) {
+        double open = 0.0, sq = 0.0;
+        for (size_t k = 0; k < tex.count(f.id); ++k) {
+            const double r = tex.radiance(f, k).x / expect - 1.0;
+            open += f.texel_area[k];
+            sq += f.texel_area[k] * r * r;
+        }
+        const double reported = faces.at(f.id).at("radiance_rms_deviation").at(0).get<double>();
+        EXPECT_NEAR(reported, std::sqrt(sq / open), 1e-3) << "face " << f.id;
+    }
     std::printf(
         "furnace l=%d N=%d m=%d P=%d sigma=%.1f s=%d: worst texel %.4f, RMS %.4f over %d texels\n",
         p.field.directions, p.field.resolution, p.field.tile, p.perturbations, p.filter_sigma,

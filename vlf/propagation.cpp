@@ -69,13 +69,25 @@ nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps) {
             any = true;
         }
         if (!any) lo = hi = mean;
+        // Area-weighted RMS of the texel radiances about the face mean, rim texels included,
+        // relative to the mean: in a furnace (uniform exact radiance) the RMS texel error.
+        Rgb sq(0.0);
+        for (size_t t = 0; t < maps.count(f.id); ++t) {
+            if (f.texel_area[t] <= 0) continue;
+            const Rgb d = maps.radiance(f, t) - mean;
+            sq += f.texel_area[t] * d * d;
+        }
+        Rgb rms(0.0);
+        for (int c = 0; c < 3; ++c)
+            if (open > 0 && mean[c] > 0) rms[c] = std::sqrt(sq[c] / open) / mean[c];
         faces.push_back({{"id", f.id},
                          {"object", scene.objects[f.object].name},
                          {"material", scene.materials[f.material].name},
                          {"area", f.area / s2},
                          {"radiance_mean", {mean.x, mean.y, mean.z}},
                          {"radiance_min", {lo.x, lo.y, lo.z}},
-                         {"radiance_max", {hi.x, hi.y, hi.z}}});
+                         {"radiance_max", {hi.x, hi.y, hi.z}},
+                         {"radiance_rms_deviation", {rms.x, rms.y, rms.z}}});
     }
     return faces;
 }
