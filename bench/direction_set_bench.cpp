@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "vlf/direction_set.hpp"
+#include "vlf/field/direction_set.hpp"
 
 namespace {
 

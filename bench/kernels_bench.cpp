@@ -6,11 +6,11 @@
 #include <cmath>
 #include <random>
 
-#include "vlf/bake.hpp"
-#include "vlf/lightmap.hpp"
-#include "vlf/propagation.hpp"
-#include "vlf/scene_loader.hpp"
-#include "vlf/texel_clip.hpp"
+#include "vlf/bake/bake.hpp"
+#include "vlf/field/lightmap.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/propagation.hpp"
+#include "vlf/transport/texel_clip.hpp"
 
 namespace {
 

@@ -1,10 +1,10 @@
 // PSF rasterisation benchmarks: one PSF, and the whole field of the Cornell room.
 #include <benchmark/benchmark.h>
 
-#include "vlf/exchange.hpp"
-#include "vlf/light_field.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/field/exchange.hpp"
+#include "vlf/field/light_field.hpp"
+#include "vlf/scene/scene_loader.hpp"
 
 namespace {
 
@@ -48,9 +48,9 @@ BENCHMARK(BM_RasteriseField)
 // Exchange buffers of every tile of one PSF.
 void BM_ExchangePsf(benchmark::State& state) {
     const vlf::Scene& scene = cornell();
-    const vlf::Psf psf = vlf::rasterise_psf(scene, glm::normalize(vlf::Vec3(0.3, 0.5, 0.8)), 0,
-                                            static_cast<int>(state.range(0)),
-                                            static_cast<int>(state.range(1)));
+    const vlf::Psf psf =
+        vlf::rasterise_psf(scene, glm::normalize(vlf::Vec3(0.3, 0.5, 0.8)), 0,
+                           static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
     vlf::TileExchange x;
     vlf::ExchangeScratch scratch;
     for (auto _ : state) {

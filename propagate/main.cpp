@@ -7,17 +7,19 @@
 #include <cstdio>
 #include <string>
 
-#include "vlf/bake.hpp"
-#include "vlf/cli_main.hpp"
-#include "vlf/error.hpp"
-#include "vlf/light_field.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/parameters.hpp"
-#include "vlf/progress.hpp"
-#include "vlf/propagation.hpp"
-#include "vlf/quality.hpp"
-#include "vlf/report.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/bake/bake.hpp"
+#include "vlf/core/cli_main.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/core/files.hpp"
+#include "vlf/core/memory.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/core/progress.hpp"
+#include "vlf/field/light_field.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/parameters.hpp"
+#include "vlf/transport/propagation.hpp"
+#include "vlf/transport/quality.hpp"
+#include "vlf/transport/report.hpp"
 
 namespace {
 
@@ -85,9 +87,10 @@ int run(Options o, const CLI::App& app) {
         const vlf::FieldStats stats = vlf::measure_field(scene, p.field);
         std::fputs(vlf::format_field_stats(stats).c_str(), stdout);
         if (!o.report.empty()) {
-            vlf::write_json_atomically(o.report, {{"scene", vlf::scene_summary(scene)},
-                                                  {"field", vlf::to_json(stats)},
-                                                  {"parameters", vlf::to_json(p)}});
+            const nlohmann::json dry = {{"scene", vlf::scene_summary(scene)},
+                                        {"field", vlf::to_json(stats)},
+                                        {"parameters", vlf::to_json(p)}};
+            vlf::write_text_atomically(o.report, dry.dump(2) + "\n");
             std::printf("report     %s\n", o.report.c_str());
         }
         return 0;
@@ -115,7 +118,7 @@ int run(Options o, const CLI::App& app) {
     report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];
     report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write
     report["memory_bytes"]["startup_rss"] = startup_rss;
-    if (!o.report.empty()) vlf::write_json_atomically(o.report, report);
+    if (!o.report.empty()) vlf::write_text_atomically(o.report, report.dump(2) + "\n");
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
     if (!o.quiet)

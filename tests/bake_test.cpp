@@ -1,7 +1,7 @@
-// bake_test.cpp — the bake bundle (vlf/bake.hpp, DESIGN §6) and its SHA-256 (vlf/checksum.hpp):
-// a propagated scene round-trips through write_bake/read_bake, and every damaged bundle is
-// refused with a message naming the bundle and the part.
-#include "vlf/bake.hpp"
+// bake_test.cpp — the bake bundle (vlf/bake/bake.hpp, DESIGN §6) and its SHA-256
+// (vlf/core/checksum.hpp): a propagated scene round-trips through write_bake/read_bake, and every
+// damaged bundle is refused with a message naming the bundle and the part.
+#include "vlf/bake/bake.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -15,11 +15,11 @@
 #include <iterator>
 #include <string>
 
-#include "vlf/checksum.hpp"
-#include "vlf/error.hpp"
-#include "vlf/propagation.hpp"
-#include "vlf/scene_loader.hpp"
-#include "vlf/transport.hpp"
+#include "vlf/core/checksum.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/propagation.hpp"
+#include "vlf/transport/transport.hpp"
 
 namespace fs = std::filesystem;
 

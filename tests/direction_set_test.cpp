@@ -1,6 +1,6 @@
 // Direction set: counts, lattice geometry, solid angles and their spread bounds, the two maps,
 // and the constant-time lookups against brute force (DESIGN §4, docs/directions.md).
-#include "vlf/direction_set.hpp"
+#include "vlf/field/direction_set.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "vlf/error.hpp"
+#include "vlf/core/error.hpp"
 
 namespace vlf {
 

@@ -1,6 +1,6 @@
 // Exchange buffers: watertight enclosures pair every ray, X(P)=Q <=> X(Q)=P, and the
 // depth order decides who sees whom.
-#include "vlf/exchange.hpp"
+#include "vlf/field/exchange.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "test_util.hpp"
-#include "vlf/direction_set.hpp"
-#include "vlf/psf.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/field/direction_set.hpp"
+#include "vlf/field/psf.hpp"
+#include "vlf/scene/scene_loader.hpp"
 
 namespace vlf {
 namespace {

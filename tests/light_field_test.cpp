@@ -1,10 +1,11 @@
 // The whole light field: deterministic across thread counts; statistics add up.
+#include "vlf/field/light_field.hpp"
+
 #include <gtest/gtest.h>
 
 #include "test_util.hpp"
-#include "vlf/light_field.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/scene/scene_loader.hpp"
 
 namespace vlf {
 namespace {

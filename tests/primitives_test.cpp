@@ -1,19 +1,22 @@
-// primitives_test.cpp — shape generators and polygon checks (vlf/primitives.hpp,
-// vlf/texel_frame.hpp clipping).
+// primitives_test.cpp — shape generators and polygon checks (vlf/scene/primitives.hpp,
+// vlf/scene/texel_frame.hpp clipping).
+#include "vlf/scene/primitives.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 #include <tuple>
 
-#include "vlf/primitives.hpp"
-#include "vlf/texel_frame.hpp"
+#include "vlf/scene/texel_frame.hpp"
 
 namespace vlf {
 namespace {
 
 using Key = std::tuple<double, double, double>;
-Key key(const Vec3& v) { return {v.x, v.y, v.z}; }
+Key key(const Vec3& v) {
+    return {v.x, v.y, v.z};
+}
 
 // Every directed edge a->b has exactly one partner b->a: the faces form closed,
 // consistently oriented surfaces (and shared vertices are bit-identical).
@@ -98,8 +101,8 @@ TEST(PrimitiveCylinder, SolidWithCaps) {
         EXPECT_GT(glm::dot(glm::normalize(newell_vector(faces[k])), glm::normalize(radial)), 0.99);
     }
     for (int k = 0; k < n; ++k) {
-        EXPECT_NEAR(glm::normalize(newell_vector(faces[n + k])).y, -1.0, 1e-12);      // bottom
-        EXPECT_NEAR(glm::normalize(newell_vector(faces[2 * n + k])).y, 1.0, 1e-12);   // top
+        EXPECT_NEAR(glm::normalize(newell_vector(faces[n + k])).y, -1.0, 1e-12);     // bottom
+        EXPECT_NEAR(glm::normalize(newell_vector(faces[2 * n + k])).y, 1.0, 1e-12);  // top
     }
     for (const Polygon& p : faces) EXPECT_FALSE(polygon_problem(p, 1e-9, 1e-9).has_value());
     EXPECT_TRUE(closed_and_consistent(faces));
@@ -131,8 +134,10 @@ TEST(PrimitiveCylinder, RingWithAnnularCaps) {
     ASSERT_EQ(faces.size(), 4u * n);
     for (int k = 0; k < n; ++k) {
         const Vec3 co = polygon_centroid(faces[k]), ci = polygon_centroid(faces[n + k]);
-        EXPECT_GT(glm::dot(newell_vector(faces[k]), Vec3(co.x, 0, co.z)), 0) << "outer wall faces out";
-        EXPECT_LT(glm::dot(newell_vector(faces[n + k]), Vec3(ci.x, 0, ci.z)), 0) << "inner wall faces the axis";
+        EXPECT_GT(glm::dot(newell_vector(faces[k]), Vec3(co.x, 0, co.z)), 0)
+            << "outer wall faces out";
+        EXPECT_LT(glm::dot(newell_vector(faces[n + k]), Vec3(ci.x, 0, ci.z)), 0)
+            << "inner wall faces the axis";
         EXPECT_EQ(faces[2 * n + k].size(), 4u);
         EXPECT_NEAR(glm::normalize(newell_vector(faces[2 * n + k])).y, -1.0, 1e-12);
         EXPECT_NEAR(glm::normalize(newell_vector(faces[3 * n + k])).y, 1.0, 1e-12);
@@ -156,7 +161,8 @@ TEST(PrimitivePolygon, ProblemsAreRecognised) {
     ASSERT_TRUE(polygon_problem(ell, 1e-9, 1e-9).has_value());
     EXPECT_NE(polygon_problem(ell, 1e-9, 1e-9)->find("not convex"), std::string::npos);
     Polygon star;  // a pentagram turns left at every vertex but winds twice
-    for (int k = 0; k < 5; ++k) star.push_back({std::cos(4 * kPi * k / 5), std::sin(4 * kPi * k / 5), 0});
+    for (int k = 0; k < 5; ++k)
+        star.push_back({std::cos(4 * kPi * k / 5), std::sin(4 * kPi * k / 5), 0});
     ASSERT_TRUE(polygon_problem(star, 1e-9, 1e-9).has_value());
     EXPECT_NE(polygon_problem(star, 1e-9, 1e-9)->find("not convex"), std::string::npos);
     const Polygon line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};

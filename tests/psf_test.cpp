@@ -1,4 +1,6 @@
 // PSF rasterisation: coverage against projected area, fill-rule partitions, bad parameters.
+#include "vlf/field/psf.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,11 +8,10 @@
 #include <random>
 
 #include "test_util.hpp"
-#include "vlf/direction_set.hpp"
-#include "vlf/error.hpp"
-#include "vlf/psf.hpp"
-#include "vlf/rotation.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/core/rotation.hpp"
+#include "vlf/field/direction_set.hpp"
+#include "vlf/scene/scene_loader.hpp"
 
 namespace vlf {
 namespace {
@@ -71,7 +72,8 @@ TEST(PsfCoverage, CoveredAreaMatchesProjectedArea) {
 // The same property with a tight statistical check: over many directions the signed
 // error averages out (a biased fill rule — e.g. closed intervals — fails this).
 TEST(PsfCoverage, FillRuleIsUnbiased) {
-    const Scene scene = test::make_scene({{{-0.5, -0.4, 0.1}, {0.45, -0.5, 0.0}, {0.3, 0.55, -0.1}}});
+    const Scene scene =
+        test::make_scene({{{-0.5, -0.4, 0.1}, {0.45, -0.5, 0.0}, {0.3, 0.55, -0.1}}});
     const DirectionSet dirs(2049);
     double signed_sum = 0.0, projected_sum = 0.0;
     for (int d = 0; d < dirs.size(); ++d) {

@@ -1,5 +1,7 @@
 // Ray casting (RayCaster over Embree), bilinear P^T lookup (lightmap) and the backward
 // ray-traced re-sampling of specular L_T (VLF §5, §6.3).
+#include "vlf/scene/raycaster.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,15 +12,14 @@
 #include <vector>
 
 #include "test_util.hpp"
-#include "vlf/error.hpp"
-#include "vlf/lightmap.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/propagation.hpp"
-#include "vlf/psf.hpp"
-#include "vlf/raycaster.hpp"
-#include "vlf/resample.hpp"
-#include "vlf/scene_loader.hpp"
-#include "vlf/texel_frame.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/field/lightmap.hpp"
+#include "vlf/field/psf.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/scene/texel_frame.hpp"
+#include "vlf/transport/propagation.hpp"
+#include "vlf/transport/resample.hpp"
 
 namespace vlf {
 namespace {
@@ -151,10 +152,13 @@ TEST(RayCaster, RandomRaysAgreeWithBruteForce) {
     // All queries at once from many threads, compared afterwards.
     std::vector<RayHit> hits(kRays);
     std::vector<uint8_t> hit_ok(kRays), occ(kRays);
-    parallel_for(0, kRays, [&](long i) {
-        hit_ok[i] = rc.intersect(q[i].o, q[i].d, 0.0, 1e30, hits[i]);
-        occ[i] = rc.occluded(q[i].o, q[i].d, 0.0, q[i].tmax);
-    }, 64);
+    parallel_for(
+        0, kRays,
+        [&](long i) {
+            hit_ok[i] = rc.intersect(q[i].o, q[i].d, 0.0, 1e30, hits[i]);
+            occ[i] = rc.occluded(q[i].o, q[i].d, 0.0, q[i].tmax);
+        },
+        64);
 
     int hits_n = 0, misses_n = 0, edge_cases = 0;
     for (int i = 0; i < kRays; ++i) {
@@ -210,7 +214,9 @@ TEST(Lightmap, LinearRadianceIsReproducedInside) {
     ASSERT_GE(f.texels.width, 6);
     ASSERT_GE(f.texels.height, 6);
     const Vec3 gx(2.0, -1.0, 0.5), gy(-0.3, 4.0, 1.0), gz(1.0, 1.0, -2.0);
-    auto L = [&](const Vec3& p) { return Rgb(1.0 + glm::dot(gx, p), 2.0 + glm::dot(gy, p), 3.0 + glm::dot(gz, p)); };
+    auto L = [&](const Vec3& p) {
+        return Rgb(1.0 + glm::dot(gx, p), 2.0 + glm::dot(gy, p), 3.0 + glm::dot(gz, p));
+    };
     std::vector<Rgb> rad(f.texels.count());
     for (int j = 0; j < f.texels.height; ++j)
         for (int i = 0; i < f.texels.width; ++i)
@@ -262,7 +268,8 @@ TEST(Lightmap, UnreliableRimTexelsGetNoWeight) {
     for (int k = 0; k < 3000; ++k) {
         const double x = u(rng), y = u(rng);
         if (x / 0.4 + y / 0.3 > 1.0) continue;  // on the face
-        const Rgb v = sample_lightmap(f, rad.data(), f.texels.to_plane(f.texels.to_texel({x, y, 0})));
+        const Rgb v =
+            sample_lightmap(f, rad.data(), f.texels.to_plane(f.texels.to_texel({x, y, 0})));
         EXPECT_GE(v.x, 1.0 - 1e-12);
         EXPECT_LE(v.x, 1.06 + 1e-12);
         EXPECT_NEAR(v.y, 2.0, 1e-12);
@@ -288,8 +295,9 @@ TEST(Lightmap, TexelRadianceIsPowerOverPiArea) {
     ASSERT_EQ(r.size(), maps.texels());
     for (const Face& f : s.faces)
         for (size_t t = 0; t < maps.count(f.id); ++t) {
-            const Rgb want = f.texel_area[t] > 0 ? maps.total[maps.begin(f.id) + t] / (kPi * f.texel_area[t])
-                                                 : Rgb(0.0);
+            const Rgb want = f.texel_area[t] > 0
+                                 ? maps.total[maps.begin(f.id) + t] / (kPi * f.texel_area[t])
+                                 : Rgb(0.0);
             EXPECT_EQ(r[maps.begin(f.id) + t], want);
         }
 }
@@ -324,7 +332,8 @@ struct Baked {
 
 std::unique_ptr<Baked> bake_mirror_room() {
     auto b = std::make_unique<Baked>();
-    b->scene = load_scene_from_string(kRoomWithMirror, "mirror-room.json", test::source_path("scenes"));
+    b->scene =
+        load_scene_from_string(kRoomWithMirror, "mirror-room.json", test::source_path("scenes"));
     PropagateParams p;
     p.field.directions = 129;
     p.field.resolution = 32;
@@ -391,10 +400,13 @@ TEST(Resample, MirrorRaysSeeTheReflectedDiffuseSurface) {
             RayHit h;
             Vec3 o = pts[k] + 1e-6 * back;
             bool found = rc.intersect(o, back, 0.0, 1e30, h);
-            while (found && h.face == mirror) found = rc.intersect(h.point + 1e-6 * back, back, 0.0, 1e30, h);
+            while (found && h.face == mirror)
+                found = rc.intersect(h.point + 1e-6 * back, back, 0.0, 1e30, h);
             Rgb want(0.0);
             if (found && glm::dot(s.faces[h.face].normal, back) < 0.0)
-                want = rho_s * sample_lightmap(s.faces[h.face], rad.data() + t.texture_maps().begin(h.face), h.point);
+                want =
+                    rho_s * sample_lightmap(s.faces[h.face],
+                                            rad.data() + t.texture_maps().begin(h.face), h.point);
             const Rgb got(maps.total[base + k]);
             for (int c = 0; c < 3; ++c)
                 ASSERT_NEAR(got[c], want[c], 1e-5 * std::abs(want[c]) + 1e-12)
@@ -485,19 +497,20 @@ TEST(Resample, MirrorsSeenInMirrorsAndMixedMaterials) {
             const Vec3 out = double(facing) * t.directions().direction(d);
             const Vec3 back = -glm::reflect(out, face.normal);
             for (uint64_t k = 0; k < n; k += 7) {
-                Rgb want = mat.is_diffuse() ? sample_lightmap(face, rad.data() + off[f], pts[k]) : Rgb(0.0);
+                Rgb want = mat.is_diffuse() ? sample_lightmap(face, rad.data() + off[f], pts[k])
+                                            : Rgb(0.0);
                 RayHit h;
                 if (rc.intersect(pts[k] + 1e-6 * back, back, 0.0, 1e30, h) && h.face != f &&
                     glm::dot(s.faces[h.face].normal, back) < 0.0) {
                     via_mirror += s.material_of(s.faces[h.face]).is_specular();
-                    want += mat.specular * specular_path_radiance(s, rc, rad, off, h.face, h.point, -back,
-                                                                  kResampleMaxBounces - 1);
+                    want += mat.specular * specular_path_radiance(s, rc, rad, off, h.face, h.point,
+                                                                  -back, kResampleMaxBounces - 1);
                 }
                 const Rgb got(maps.total[maps.begin(d, f) + k]);
                 for (int c = 0; c < 3; ++c)
                     ASSERT_NEAR(got[c], want[c], 1e-5 * want[c] + 1e-12)
-                        << "face " << f << " dir " << d << " ray " << k << " hit " << h.face << " t " << h.t
-                        << " out.n " << glm::dot(out, face.normal);
+                        << "face " << f << " dir " << d << " ray " << k << " hit " << h.face
+                        << " t " << h.t << " out.n " << glm::dot(out, face.normal);
                 ++checked;
             }
         }

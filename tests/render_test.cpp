@@ -1,7 +1,7 @@
 // Walkthrough rendering (VLF §6; DESIGN §7–8): pinhole camera and camera paths, image I/O,
 // the path-traced reference (furnace, determinism) and the accuracy of the bake's render
 // modes against that reference on the Cornell scenes.
-#include "vlf/render.hpp"
+#include "vlf/render/render.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,15 +18,15 @@
 #include <utility>
 
 #include "test_util.hpp"
-#include "vlf/bake.hpp"
-#include "vlf/camera.hpp"
-#include "vlf/error.hpp"
-#include "vlf/image_io.hpp"
-#include "vlf/image_metrics.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/pathtrace.hpp"
-#include "vlf/propagation.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/bake/bake.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/render/camera.hpp"
+#include "vlf/render/image_io.hpp"
+#include "vlf/render/image_metrics.hpp"
+#include "vlf/render/pathtrace.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/propagation.hpp"
 
 namespace vlf {
 namespace {

@@ -1,6 +1,9 @@
-// scene_loader_test.cpp — JSON scenes to vlf::Scene (vlf/scene_loader.hpp): the shipped
+// scene_loader_test.cpp — JSON scenes to vlf::Scene (vlf/scene/scene_loader.hpp): the shipped
 // scenes, normalisation, texel frames, mesh import, transforms and every class of bad input.
+#include "vlf/scene/scene_loader.hpp"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -9,12 +12,9 @@
 #include <map>
 #include <tuple>
 
-#include <unistd.h>
-
-#include "vlf/error.hpp"
-#include "vlf/primitives.hpp"
-#include "vlf/scene.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/scene/primitives.hpp"
+#include "vlf/scene/scene.hpp"
 
 namespace vlf {
 namespace {
@@ -22,11 +22,17 @@ namespace {
 const std::string kSource = VLF_SOURCE_DIR;
 const std::string kScenes = kSource + "/scenes";
 
-Scene load_cornell(const LoadOptions& o = {}) { return load_scene(kScenes + "/cornell.json", o); }
-Scene load_closed_box() { return load_scene(kScenes + "/closed-box.json"); }
+Scene load_cornell(const LoadOptions& o = {}) {
+    return load_scene(kScenes + "/cornell.json", o);
+}
+Scene load_closed_box() {
+    return load_scene(kScenes + "/closed-box.json");
+}
 
 using Key = std::tuple<double, double, double>;
-Key key(const Vec3& v) { return {v.x, v.y, v.z}; }
+Key key(const Vec3& v) {
+    return {v.x, v.y, v.z};
+}
 
 // Every directed edge of the given faces has exactly one reversed partner among them.
 bool closed_and_consistent(const Scene& s, int first, int count) {
@@ -46,7 +52,8 @@ bool closed_and_consistent(const Scene& s, int first, int count) {
 double signed_volume(const Scene& s, int first, int count) {
     double v = 0;
     for (int f = first; f < first + count; ++f)
-        v += s.faces[f].area * glm::dot(s.faces[f].normal, polygon_centroid(s.faces[f].vertices)) / 3.0;
+        v += s.faces[f].area * glm::dot(s.faces[f].normal, polygon_centroid(s.faces[f].vertices)) /
+             3.0;
     return v;
 }
 
@@ -80,7 +87,9 @@ TEST(SceneCornell, LoadsWithTheExpectedFaces) {
     for (size_t i = 0; i < s.faces.size(); ++i) {
         const Face& f = s.faces[i];
         EXPECT_EQ(f.id, static_cast<int>(i));
-        EXPECT_EQ(s.objects[f.object].first_face <= f.id && f.id < s.objects[f.object].first_face + s.objects[f.object].face_count, true);
+        EXPECT_EQ(s.objects[f.object].first_face <= f.id &&
+                      f.id < s.objects[f.object].first_face + s.objects[f.object].face_count,
+                  true);
     }
 }
 
@@ -89,7 +98,8 @@ TEST(SceneCornell, FacesArePlanarConvexAndInsideTheUnitBall) {
     double max_radius = 0;
     for (const Face& f : s.faces) {
         EXPECT_LT(max_plane_deviation(f.vertices), 1e-12) << s.objects[f.object].name;
-        EXPECT_FALSE(polygon_problem(f.vertices, 1e-12, 1e-9).has_value()) << s.objects[f.object].name;
+        EXPECT_FALSE(polygon_problem(f.vertices, 1e-12, 1e-9).has_value())
+            << s.objects[f.object].name;
         EXPECT_NEAR(glm::length(f.normal), 1.0, 1e-14);
         EXPECT_NEAR(f.area, polygon_area(f.vertices), 1e-15);
         for (const Vec3& v : f.vertices) {
@@ -103,7 +113,8 @@ TEST(SceneCornell, FacesArePlanarConvexAndInsideTheUnitBall) {
 
 TEST(SceneCornell, RoomWallsFaceInwardAndBlocksAreClosedSolids) {
     const Scene s = load_cornell();
-    const Vec3 room_center = s.normalisation.to_normalised(0.5 * (s.user_bounds_min + s.user_bounds_max));
+    const Vec3 room_center =
+        s.normalisation.to_normalised(0.5 * (s.user_bounds_min + s.user_bounds_max));
     for (const char* wall : {"floor", "ceiling", "back wall", "right wall", "left wall"}) {
         const SceneObject& o = object_named(s, wall);
         for (int k = o.first_face; k < o.first_face + o.face_count; ++k) {
@@ -139,7 +150,8 @@ TEST(SceneCornell, AreasAndNormalisationInUserUnits) {
 
 TEST(SceneNormalisation, RoundTrips) {
     const Scene s = load_cornell();
-    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(556, 548.8, 559.2), Vec3(278, 273, -800), Vec3(-1e4, 3.25, 77.7)}) {
+    for (const Vec3& p :
+         {Vec3(0, 0, 0), Vec3(556, 548.8, 559.2), Vec3(278, 273, -800), Vec3(-1e4, 3.25, 77.7)}) {
         const Vec3 q = s.normalisation.to_user(s.normalisation.to_normalised(p));
         for (int a = 0; a < 3; ++a) EXPECT_NEAR(q[a], p[a], 1e-12 * (1 + std::abs(p[a])));
     }
@@ -237,15 +249,18 @@ const std::string kLamp = R"({"type": "polygon", "material": "lamp",
 const std::string kMaterials = R"({"white": {"diffuse": [0.5, 0.5, 0.5]},
   "lamp": {"diffuse": [0.5, 0.5, 0.5], "emission": [1, 1, 1]}})";
 
-Scene load_objects(const std::string& objects, const std::string& extra = "", const LoadOptions& o = {}) {
-    const std::string text = R"({"materials": )" + kMaterials + R"(, "objects": [)" + objects + "]" + extra + "}";
+Scene load_objects(const std::string& objects, const std::string& extra = "",
+                   const LoadOptions& o = {}) {
+    const std::string text =
+        R"({"materials": )" + kMaterials + R"(, "objects": [)" + objects + "]" + extra + "}";
     return load_scene_from_string(text, "test.json", kScenes, o);
 }
 
 TEST(SceneTransform, OrderAndPivot) {
     // Scale 2 about the box centre, rotate 90 deg about y, translate: a 2x4x6 box centred at
     // (10, 1.5, 2.5) -> x/z swapped extents.
-    const Scene s = load_objects(R"({"type": "box", "min": [0,1,2], "max": [1,2,3], "scale": [2, 4, 6],
+    const Scene s =
+        load_objects(R"({"type": "box", "min": [0,1,2], "max": [1,2,3], "scale": [2, 4, 6],
         "rotate_y_deg": 90, "translate": [10, 0, 0], "material": "lamp"})");
     EXPECT_NEAR(s.user_bounds_min.x, 10.5 - 3, 1e-12);
     EXPECT_NEAR(s.user_bounds_max.x, 10.5 + 3, 1e-12);
@@ -256,7 +271,8 @@ TEST(SceneTransform, OrderAndPivot) {
     EXPECT_EQ(s.faces.size(), 6u);
     EXPECT_GT(signed_volume(s, 0, 6), 0);  // rotation keeps the faces outward
     // Rotations compose x, then y, then z: (1,0,0) -> rot_z(90) -> (0,1,0).
-    const Scene r = load_objects(R"({"type": "polygon", "material": "lamp", "rotate_x_deg": 90, "rotate_z_deg": 90,
+    const Scene r = load_objects(
+        R"({"type": "polygon", "material": "lamp", "rotate_x_deg": 90, "rotate_z_deg": 90,
         "vertices": [[0,0,0],[1,0,0],[0,1,0]]})");
     const Vec3 a = r.normalisation.to_user(r.faces[0].vertices[1]);
     EXPECT_NEAR(a.x, 0, 1e-12);
@@ -278,7 +294,8 @@ TEST(SceneObjects, SphereCylinderFlipTwoSidedAndTriangulate) {
     EXPECT_EQ(s.objects[1].face_count, 80);
     EXPECT_EQ(s.objects[1].name, "sphere#1");
     EXPECT_EQ(s.objects[1].type, "sphere");
-    EXPECT_GT(signed_volume(s, s.objects[1].first_face, 80), 0);  // non-uniform scale: still outward
+    EXPECT_GT(signed_volume(s, s.objects[1].first_face, 80),
+              0);  // non-uniform scale: still outward
     EXPECT_EQ(s.objects[2].face_count, 32);
     EXPECT_LT(signed_volume(s, s.objects[2].first_face, 32), 0);  // flipped
     ASSERT_EQ(s.objects[3].face_count, 2);
@@ -298,7 +315,8 @@ TEST(SceneSettings, TexelSizeFromTheFileAndTheOptions) {
     for (double a : s.faces[0].texel_area) EXPECT_NEAR(a, s.faces[0].area / 16, 1e-12);
     LoadOptions o;
     o.texel_size_user = 0.5;
-    EXPECT_DOUBLE_EQ(load_objects(kLamp, R"(, "settings": {"texel_size": 0.25})", o).texel_size_user, 0.5);
+    EXPECT_DOUBLE_EQ(
+        load_objects(kLamp, R"(, "settings": {"texel_size": 0.25})", o).texel_size_user, 0.5);
 }
 
 // ---- mesh import -----------------------------------------------------------------------------
@@ -322,12 +340,14 @@ TEST(SceneMesh, ImportsObjOffPlyAndStl) {
     EXPECT_EQ(s.objects[0].face_count, 4);
     EXPECT_EQ(s.objects[1].face_count, 6);
     EXPECT_EQ(s.objects[2].face_count, 5);
-    for (int k = 0; k < s.objects[1].face_count; ++k) EXPECT_EQ(s.faces[s.objects[1].first_face + k].vertices.size(), 4u);
+    for (int k = 0; k < s.objects[1].face_count; ++k)
+        EXPECT_EQ(s.faces[s.objects[1].first_face + k].vertices.size(), 4u);
     EXPECT_NEAR(object_user_area(s, 0), 1.5 + std::sqrt(3.0) / 2, 1e-9);
     EXPECT_NEAR(object_user_area(s, 1), 6.0, 1e-9);
     EXPECT_NEAR(object_user_area(s, 2), 1.0 + 2 * std::sqrt(1.25), 1e-6);
     for (int o = 0; o < 4; ++o) {
-        EXPECT_TRUE(closed_and_consistent(s, s.objects[o].first_face, s.objects[o].face_count)) << o;
+        EXPECT_TRUE(closed_and_consistent(s, s.objects[o].first_face, s.objects[o].face_count))
+            << o;
         EXPECT_GT(signed_volume(s, s.objects[o].first_face, s.objects[o].face_count), 0) << o;
     }
 }
@@ -335,7 +355,8 @@ TEST(SceneMesh, ImportsObjOffPlyAndStl) {
 struct TempDir {
     std::filesystem::path path;
     explicit TempDir(const std::string& name) {
-        path = std::filesystem::path(::testing::TempDir()) / ("vlf_scene_" + name + "_" + std::to_string(::getpid()));
+        path = std::filesystem::path(::testing::TempDir()) /
+               ("vlf_scene_" + name + "_" + std::to_string(::getpid()));
         std::filesystem::create_directories(path);
     }
     ~TempDir() { std::filesystem::remove_all(path); }
@@ -348,29 +369,40 @@ struct TempDir {
 TEST(SceneMesh, NonPlanarFaceIsAnErrorUnlessTriangulated) {
     TempDir dir("mesh");
     dir.write("bent.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.3\nv 0 1 0\nv 0 0 1\nf 5 1 2\nf 1 2 3 4\n");
-    const std::string scene = dir.write("s.json", R"({"materials": )" + kMaterials +
-        R"(, "objects": [{"type": "mesh", "file": "bent.obj", "material": "lamp"}]})");
+    const std::string scene = dir.write(
+        "s.json",
+        R"({"materials": )" + kMaterials +
+            R"(, "objects": [{"type": "mesh", "file": "bent.obj", "material": "lamp"}]})");
     try {
         load_scene(scene);
         FAIL() << "expected an error";
     } catch (const SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find(scene + ": objects[0] (mesh bent.obj): face 1 is not planar"),
-                  std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(scene +
+                                             ": objects[0] (mesh bent.obj): face 1 is not planar"),
+                  std::string::npos)
+            << e.what();
     }
-    const std::string ok = dir.write("t.json", R"({"materials": )" + kMaterials +
-        R"(, "objects": [{"type": "mesh", "file": "bent.obj", "material": "lamp", "triangulate": true}]})");
+    const std::string ok = dir.write(
+        "t.json",
+        R"({"materials": )" + kMaterials +
+            R"(, "objects": [{"type": "mesh", "file": "bent.obj", "material": "lamp", "triangulate": true}]})");
     EXPECT_EQ(load_scene(ok).faces.size(), 3u);
     // A face OpenMesh drops (repeated vertex) is an error, not a silent hole.
     // (OpenMesh's OBJ reader removes repeated indices itself; its OFF reader does not.)
     dir.write("dropped.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n4 0 1 1 3\n");
-    const std::string dropped = dir.write("d.json", R"({"materials": )" + kMaterials +
-        R"(, "objects": [{"type": "mesh", "file": "dropped.off", "material": "lamp"}]})");
+    const std::string dropped = dir.write(
+        "d.json",
+        R"({"materials": )" + kMaterials +
+            R"(, "objects": [{"type": "mesh", "file": "dropped.off", "material": "lamp"}]})");
     try {
         load_scene(dropped);
         FAIL() << "expected an error";
     } catch (const SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find(dropped + ": objects[0].file: mesh file"), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("OpenMesh dropped a face"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(dropped + ": objects[0].file: mesh file"),
+                  std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("OpenMesh dropped a face"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -393,21 +425,30 @@ std::string with_objects(const std::string& objects, const std::string& material
 }
 
 TEST(SceneBadInput, MalformedJsonNamesLineAndColumn) {
-    expect_error("{\n  \"materials\": {},\n  \"objects\": [ }\n}", "bad.json: line 3, column 16: malformed JSON");
+    expect_error("{\n  \"materials\": {},\n  \"objects\": [ }\n}",
+                 "bad.json: line 3, column 16: malformed JSON");
     expect_error("", "bad.json: line 1, column 1: malformed JSON");
     expect_error(R"({"materials": {}, "materials": {}})", "bad.json: materials: duplicate key");
 }
 
 TEST(SceneBadInput, UnknownTopLevelKey) {
-    expect_error(R"({"materials": {}, "objects": [], "colour": 1})", "bad.json: colour: unknown key");
+    expect_error(R"({"materials": {}, "objects": [], "colour": 1})",
+                 "bad.json: colour: unknown key");
 }
 
 TEST(SceneBadInput, UnknownObjectKey) {
-    expect_error(with_objects(kLamp + R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white", "colour": 1})"),
-                 "bad.json: objects[1].colour: unknown key for a box");
-    expect_error(with_objects(kLamp + R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white", "radius": 1})"),
-                 "bad.json: objects[1].radius: unknown key for a box");
-    expect_error(with_objects(kLamp + R"(, {"type": "cone", "material": "white"})"), "bad.json: objects[1].type: unknown type 'cone'");
+    expect_error(
+        with_objects(
+            kLamp +
+            R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white", "colour": 1})"),
+        "bad.json: objects[1].colour: unknown key for a box");
+    expect_error(
+        with_objects(
+            kLamp +
+            R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white", "radius": 1})"),
+        "bad.json: objects[1].radius: unknown key for a box");
+    expect_error(with_objects(kLamp + R"(, {"type": "cone", "material": "white"})"),
+                 "bad.json: objects[1].type: unknown type 'cone'");
 }
 
 TEST(SceneBadInput, UnknownMaterialKey) {
@@ -416,96 +457,133 @@ TEST(SceneBadInput, UnknownMaterialKey) {
 }
 
 TEST(SceneBadInput, UnknownMaterialName) {
-    expect_error(with_objects(kLamp + R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "glas"})"),
-                 "bad.json: objects[1].material: unknown material 'glas'");
+    expect_error(
+        with_objects(kLamp +
+                     R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "glas"})"),
+        "bad.json: objects[1].material: unknown material 'glas'");
 }
 
 TEST(SceneBadInput, MissingMeshFile) {
-    expect_error(with_objects(kLamp + R"(, {"type": "mesh", "file": "meshes/nope.obj", "material": "white"})"),
-                 "bad.json: objects[1].file: mesh file '" + kScenes + "/meshes/nope.obj' does not exist");
+    expect_error(
+        with_objects(kLamp +
+                     R"(, {"type": "mesh", "file": "meshes/nope.obj", "material": "white"})"),
+        "bad.json: objects[1].file: mesh file '" + kScenes + "/meshes/nope.obj' does not exist");
 }
 
 TEST(SceneBadInput, NonFiniteNumber) {
     expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1, 1e999, 1]}})"),
                  "bad.json: materials.lamp.emission[1]: number is not finite");
-    expect_error(with_objects(R"({"type": "polygon", "material": "lamp", "vertices": [[0,0,0],[1,0,0],[0,-1e999,0]]})"),
-                 "bad.json: objects[0].vertices[2][1]: number is not finite");
+    expect_error(
+        with_objects(
+            R"({"type": "polygon", "material": "lamp", "vertices": [[0,0,0],[1,0,0],[0,-1e999,0]]})"),
+        "bad.json: objects[0].vertices[2][1]: number is not finite");
 }
 
 TEST(SceneBadInput, ReflectanceAboveOne) {
-    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,1,1], "diffuse": [0.5, 0.7, 0.5], "specular": [0.4, 0.4, 0.4]}})"),
-                 "bad.json: materials.lamp: diffuse + specular = 1.1 > 1 in channel 1");
-    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,1,1], "specular": [0.4, 1.2, 0.4]}})"),
-                 "bad.json: materials.lamp.specular[1]: reflectance must be <= 1");
+    expect_error(
+        with_objects(
+            kLamp,
+            R"({"lamp": {"emission": [1,1,1], "diffuse": [0.5, 0.7, 0.5], "specular": [0.4, 0.4, 0.4]}})"),
+        "bad.json: materials.lamp: diffuse + specular = 1.1 > 1 in channel 1");
+    expect_error(
+        with_objects(kLamp, R"({"lamp": {"emission": [1,1,1], "specular": [0.4, 1.2, 0.4]}})"),
+        "bad.json: materials.lamp.specular[1]: reflectance must be <= 1");
 }
 
 TEST(SceneBadInput, NegativeReflectance) {
-    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,1,1], "diffuse": [0.5, 0.5, -0.1]}})"),
-                 "bad.json: materials.lamp.diffuse[2]: must be >= 0");
-    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,-1,1]}})"), "bad.json: materials.lamp.emission[1]: must be >= 0");
+    expect_error(
+        with_objects(kLamp, R"({"lamp": {"emission": [1,1,1], "diffuse": [0.5, 0.5, -0.1]}})"),
+        "bad.json: materials.lamp.diffuse[2]: must be >= 0");
+    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,-1,1]}})"),
+                 "bad.json: materials.lamp.emission[1]: must be >= 0");
 }
 
 TEST(SceneBadInput, VectorOfWrongLength) {
-    expect_error(with_objects(kLamp + R"(, {"type": "box", "min": [0,0], "max": [1,1,1], "material": "white"})"),
-                 "bad.json: objects[1].min: expected an array of 3 numbers, got 2 elements");
+    expect_error(
+        with_objects(kLamp +
+                     R"(, {"type": "box", "min": [0,0], "max": [1,1,1], "material": "white"})"),
+        "bad.json: objects[1].min: expected an array of 3 numbers, got 2 elements");
 }
 
 TEST(SceneBadInput, WrongType) {
-    expect_error(with_objects(kLamp + R"(, {"type": "sphere", "radius": "big", "material": "white"})"),
-                 "bad.json: objects[1].radius: expected a number, got a string");
-    expect_error(with_objects(kLamp + R"(, {"type": "sphere", "radius": 1, "flip": 1, "material": "white"})"),
-                 "bad.json: objects[1].flip: expected true or false");
-    expect_error(R"({"materials": [], "objects": []})", "bad.json: materials: expected an object, got an array");
+    expect_error(
+        with_objects(kLamp + R"(, {"type": "sphere", "radius": "big", "material": "white"})"),
+        "bad.json: objects[1].radius: expected a number, got a string");
+    expect_error(
+        with_objects(kLamp +
+                     R"(, {"type": "sphere", "radius": 1, "flip": 1, "material": "white"})"),
+        "bad.json: objects[1].flip: expected true or false");
+    expect_error(R"({"materials": [], "objects": []})",
+                 "bad.json: materials: expected an object, got an array");
 }
 
 TEST(SceneBadInput, EmptyObjects) {
-    expect_error(R"({"materials": {"lamp": {"emission": [1,1,1]}}, "objects": []})", "bad.json: objects: the scene has no objects");
-    expect_error(R"({"materials": {"lamp": {"emission": [1,1,1]}}})", "bad.json: (top level): missing required key 'objects'");
+    expect_error(R"({"materials": {"lamp": {"emission": [1,1,1]}}, "objects": []})",
+                 "bad.json: objects: the scene has no objects");
+    expect_error(R"({"materials": {"lamp": {"emission": [1,1,1]}}})",
+                 "bad.json: (top level): missing required key 'objects'");
 }
 
 TEST(SceneBadInput, NoEmitter) {
-    expect_error(with_objects(R"({"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white"})"),
-                 "bad.json: objects: no emitter");
+    expect_error(
+        with_objects(R"({"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white"})"),
+        "bad.json: objects: no emitter");
 }
 
 TEST(SceneBadInput, DegeneratePolygon) {
-    expect_error(with_objects(kLamp + R"(, {"type": "polygon", "material": "white", "vertices": [[0,0,0],[1,1,1],[2,2,2]]})"),
-                 "bad.json: objects[1].vertices: polygon is degenerate");
+    expect_error(
+        with_objects(
+            kLamp +
+            R"(, {"type": "polygon", "material": "white", "vertices": [[0,0,0],[1,1,1],[2,2,2]]})"),
+        "bad.json: objects[1].vertices: polygon is degenerate");
 }
 
 TEST(SceneBadInput, NonPlanarPolygon) {
-    expect_error(with_objects(kLamp + R"(, {"type": "polygon", "material": "white", "vertices": [[0,0,0],[1,0,0],[1,1,0.5],[0,1,0]]})"),
-                 "bad.json: objects[1].vertices: polygon is not planar (max deviation 0.118 from its plane)");
+    expect_error(
+        with_objects(
+            kLamp +
+            R"(, {"type": "polygon", "material": "white", "vertices": [[0,0,0],[1,0,0],[1,1,0.5],[0,1,0]]})"),
+        "bad.json: objects[1].vertices: polygon is not planar (max deviation 0.118 from its "
+        "plane)");
 }
 
 TEST(SceneBadInput, NonConvexPolygon) {
-    expect_error(with_objects(kLamp + R"(, {"type": "polygon", "material": "white",
+    expect_error(
+        with_objects(kLamp + R"(, {"type": "polygon", "material": "white",
                  "vertices": [[0,0,0],[2,0,0],[2,1,0],[1,1,0],[1,2,0],[0,2,0]]})"),
-                 "bad.json: objects[1].vertices: polygon is not convex (turns clockwise at vertex 3)");
+        "bad.json: objects[1].vertices: polygon is not convex (turns clockwise at vertex 3)");
 }
 
 TEST(SceneBadInput, BadCamera) {
     auto cam = [](const std::string& c) {
-        return R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp + R"(], "cameras": [)" + c + "]}";
+        return R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp +
+               R"(], "cameras": [)" + c + "]}";
     };
     expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,5,0], "up": [0,1,0], "fov_y_deg": 40})"),
                  "bad.json: cameras[0].up: is parallel to the view direction");
-    expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,0,0], "fov_y_deg": 40})"), "bad.json: cameras[0].look_at: equals eye");
+    expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,0,0], "fov_y_deg": 40})"),
+                 "bad.json: cameras[0].look_at: equals eye");
     expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 180})"),
                  "bad.json: cameras[0].fov_y_deg: must be in (0, 180)");
-    expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40, "zoom": 2})"), "bad.json: cameras[0].zoom: unknown key");
+    expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40, "zoom": 2})"),
+                 "bad.json: cameras[0].zoom: unknown key");
 }
 
 TEST(SceneBadInput, BadTexelSize) {
-    expect_error(R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp + R"(], "settings": {"texel_size": 0}})",
+    expect_error(R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp +
+                     R"(], "settings": {"texel_size": 0}})",
                  "bad.json: settings.texel_size: must be > 0");
-    expect_error(R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp + R"(], "settings": {"texel_size": "1cm"}})",
+    expect_error(R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp +
+                     R"(], "settings": {"texel_size": "1cm"}})",
                  "bad.json: settings.texel_size: expected a number");
 }
 
 TEST(SceneBadInput, ErrorsFromAFileNameThePath) {
     TempDir dir("file");
-    const std::string path = dir.write("room.json", with_objects(kLamp + R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "glas"})"));
+    const std::string path = dir.write(
+        "room.json",
+        with_objects(kLamp +
+                     R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "glas"})"));
     try {
         load_scene(path);
         FAIL() << "expected an error";

@@ -1,10 +1,10 @@
-// Sealed areas (vlf/sealed_areas.hpp): the part of a face right behind another face is
+// Sealed areas (vlf/scene/sealed_areas.hpp): the part of a face right behind another face is
 // taken out of its texel areas exactly; a face farther away, beside, or facing the other
 // way takes nothing.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "vlf/scene_loader.hpp"
+#include "vlf/scene/scene_loader.hpp"
 
 namespace vlf {
 namespace {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "vlf/scene.hpp"
+#include "vlf/scene/scene.hpp"
 
 namespace vlf::test {
 

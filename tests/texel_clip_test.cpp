@@ -1,7 +1,7 @@
-// Continuous clipping (VLF §4.2, vlf/texel_clip.hpp): the overlaps of a beam's footprint
+// Continuous clipping (VLF §4.2, vlf/transport/texel_clip.hpp): the overlaps of a beam's footprint
 // with a texel grid are exact areas, they partition the footprint, and the rim cells
 // reach outwards. Checked against an independent clip of the quad by each cell.
-#include "vlf/texel_clip.hpp"
+#include "vlf/transport/texel_clip.hpp"
 
 #include <gtest/gtest.h>
 

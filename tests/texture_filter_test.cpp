@@ -1,16 +1,16 @@
-// The maps' post-processing after each cycle (vlf/rim_pools.hpp, vlf/gaussian_filter.hpp):
-// both move power only within a face, conserve it to rounding, and keep a uniform field
-// uniform, partial rim texels included.
+// The maps' post-processing after each cycle (vlf/transport/rim_pools.hpp,
+// vlf/transport/gaussian_filter.hpp): both move power only within a face, conserve it to rounding,
+// and keep a uniform field uniform, partial rim texels included.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "test_util.hpp"
-#include "vlf/gaussian_filter.hpp"
-#include "vlf/rim_pools.hpp"
-#include "vlf/scene_loader.hpp"
-#include "vlf/texture_maps.hpp"
+#include "vlf/field/texture_maps.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/gaussian_filter.hpp"
+#include "vlf/transport/rim_pools.hpp"
 
 namespace vlf {
 namespace {

@@ -1,6 +1,6 @@
 // Physics of propagation (DESIGN §8): the energy ledger, the furnace, analytic form
 // factors, a mirror image source, perturbation against holes, thread-count independence.
-#include "vlf/transport.hpp"
+#include "vlf/transport/transport.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -12,10 +12,10 @@
 #include <tuple>
 
 #include "test_util.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/propagation.hpp"
-#include "vlf/quality.hpp"
-#include "vlf/scene_loader.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/propagation.hpp"
+#include "vlf/transport/quality.hpp"
 
 namespace vlf {
 namespace {

@@ -7,7 +7,7 @@
 // (OpenGL 2.1 is enough). A new image is rendered only when the view changed (camera, mode,
 // size) or a still pathtrace view accumulates more samples; otherwise the window sleeps in
 // glfwWaitEventsTimeout.
-#include "walkthrough/interactive.hpp"
+#include "interactive.hpp"
 
 #include <GLFW/glfw3.h>  // also includes <GL/gl.h>
 #include <fmt/format.h>
@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
-#include "vlf/error.hpp"
-#include "vlf/image_io.hpp"  // tone_map_srgb8: the PNG tone map, reused for display
-#include "vlf/render.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/render/image_io.hpp"  // tone_map_srgb8: the PNG tone map, reused for display
+#include "vlf/render/render.hpp"
 
 namespace {
 

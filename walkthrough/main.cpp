@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "vlf/bake.hpp"
-#include "vlf/camera.hpp"
-#include "vlf/cli_main.hpp"
-#include "vlf/error.hpp"
-#include "vlf/image_metrics.hpp"
-#include "vlf/parallel.hpp"
-#include "vlf/progress.hpp"
-#include "vlf/render.hpp"
+#include "vlf/bake/bake.hpp"
+#include "vlf/core/cli_main.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/core/progress.hpp"
+#include "vlf/render/camera.hpp"
+#include "vlf/render/image_metrics.hpp"
+#include "vlf/render/render.hpp"
 
 #ifdef VLF_HAVE_INTERACTIVE
 #include "interactive.hpp"

@@ -1,0 +1,26 @@
+// files.hpp — the file-system habits every output shares: an output path is checked before
+// any long work, and a file is written under `<path>.partial` and renamed into place when
+// complete, so nobody ever reads a half-written file that looks complete.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace vlf {
+
+// The extension of `path`, lower-cased, with its dot (".exr"); "" when there is none.
+std::string lower_extension(const std::string& path);
+
+// Fails early (before any work) when `path` cannot be written: its directory must exist
+// and be writable. Throws ParameterError naming the path.
+void check_output_path(const std::string& path);
+
+// Calls `write(partial)` with `partial = path + ".partial"`, then renames it to `path`. On
+// any failure the partial file is removed and Error("<path>: <what went wrong>") thrown.
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string& partial)>& write);
+
+// write_atomically() of a text file.
+void write_text_atomically(const std::string& path, const std::string& text);
+
+}  // namespace vlf

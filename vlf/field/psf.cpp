@@ -1,0 +1,207 @@
+#include "vlf/field/psf.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "vlf/core/error.hpp"
+#include "vlf/core/rotation.hpp"
+
+namespace vlf {
+
+void validate_raster(int resolution, int tile) {
+    if (resolution < 1 || resolution > 4096)
+        throw ParameterError(
+            fmt::format("resolution N = {} is out of range (1 to 4096 rays per side)", resolution));
+    if (tile < 1 || tile > resolution)
+        throw ParameterError(
+            fmt::format("tile size m = {} is out of range (1 to N = {})", tile, resolution));
+    if (resolution % tile != 0)
+        throw ParameterError(fmt::format(
+            "resolution N = {} is not a multiple of the tile size m = {}", resolution, tile));
+}
+
+namespace {
+
+// First pixel index whose centre (2i+1)/N - 1 is >= x: the half-open fill rule.
+inline int first_centre_at_or_after(double x, int n) {
+    const double c = std::ceil((x + 1.0) * 0.5 * n - 0.5);
+    if (c <= 0.0) return 0;
+    if (c >= n) return n;
+    return static_cast<int>(c);
+}
+
+struct ScratchTile {
+    std::vector<Fragment> fragments;
+    std::vector<Span> spans;
+    uint32_t covered = 0;
+};
+
+}  // namespace
+
+Psf rasterise_psf(const Scene& scene, const Vec3& omega, int direction, int resolution,
+                  int tile_size) {
+    Psf psf = rasterise_psf(scene, rotation_to_z(omega), direction, resolution, tile_size);
+    psf.omega = omega;
+    return psf;
+}
+
+Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int resolution,
+                  int tile_size) {
+    validate_raster(resolution, tile_size);
+    const int N = resolution, m = tile_size, n = N / m;
+    Psf psf;
+    psf.direction = direction;
+    psf.rotation = rotation;
+    psf.omega = glm::transpose(rotation) * Vec3(0, 0, 1);
+    psf.resolution = N;
+    psf.tile_size = m;
+
+    std::vector<ScratchTile> grid(static_cast<size_t>(n) * n);
+    FaceRaster fr;
+    for (const Face& face : scene.faces) {
+        rasterise_face(face, rotation, N, m, fr);
+        for (const FaceFragment& ff : fr.fragments) {
+            ScratchTile& tile = grid[static_cast<size_t>(ff.t) * n + ff.s];
+            Fragment frag;
+            frag.face = face.id;
+            frag.row_begin = ff.row_begin;
+            frag.rows = ff.rows;
+            frag.span_offset = static_cast<uint32_t>(tile.spans.size());
+            frag.ray_offset = tile.covered;
+            frag.covered = ff.covered;
+            frag.facing = fr.facing;
+            tile.spans.insert(tile.spans.end(), fr.spans.begin() + ff.span_offset,
+                              fr.spans.begin() + ff.span_offset + ff.rows);
+            tile.covered += ff.covered;
+            tile.fragments.push_back(frag);
+        }
+    }
+
+    psf.tile_of.assign(static_cast<size_t>(n) * n, -1);
+    for (int t = 0; t < n; ++t) {
+        for (int s = 0; s < n; ++s) {
+            ScratchTile& st = grid[static_cast<size_t>(t) * n + s];
+            if (st.fragments.empty()) continue;
+            psf.tile_of[static_cast<size_t>(t) * n + s] = static_cast<int32_t>(psf.tiles.size());
+            Tile tile;
+            tile.s = static_cast<uint16_t>(s);
+            tile.t = static_cast<uint16_t>(t);
+            tile.fragments = std::move(st.fragments);
+            tile.spans = std::move(st.spans);
+            tile.covered = st.covered;
+            psf.tiles.push_back(std::move(tile));
+        }
+    }
+    return psf;
+}
+
+void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
+                    FaceRaster& out) {
+    const int N = resolution, m = tile_size, n = N / m;
+    out.fragments.clear();
+    out.spans.clear();
+    out.covered = 0;
+    out.facing = 0;
+    const Vec3 nr = rotation * face.normal;
+    if (std::abs(nr.z) < 1e-12) return;  // edge-on: covers no ray
+    out.facing = nr.z > 0 ? 1 : -1;
+
+    thread_local std::vector<Vec2> proj;
+    thread_local std::vector<int> row_i0, row_i1;
+    proj.clear();
+    row_i0.resize(N);
+    row_i1.resize(N);
+    double ymin = 1e300, ymax = -1e300;
+    for (const Vec3& v : face.vertices) {
+        const Vec3 p = rotation * v;
+        proj.emplace_back(p.x, p.y);
+        ymin = std::min(ymin, p.y);
+        ymax = std::max(ymax, p.y);
+    }
+    const int jlo = first_centre_at_or_after(ymin, N);
+    const int jhi = first_centre_at_or_after(ymax, N);  // exclusive
+    if (jlo >= jhi) return;
+
+    // Spans per row. An edge crosses row y when lo.y <= y < hi.y, with (lo, hi) its
+    // endpoints in a canonical order, so a shared edge yields the identical x from both of
+    // its polygons: one takes it as an inclusive left end, the other as an exclusive right
+    // end, and no ray is lost or counted twice.
+    const size_t nv = proj.size();
+    for (int j = jlo; j < jhi; ++j) {
+        const double y = (2.0 * j + 1.0) / N - 1.0;
+        double xl = 1e300, xr = -1e300;
+        int crossings = 0;
+        for (size_t k = 0; k < nv; ++k) {
+            Vec2 a = proj[k], b = proj[(k + 1) % nv];
+            if (b.y < a.y || (b.y == a.y && b.x < a.x)) std::swap(a, b);
+            if (!(a.y <= y && y < b.y)) continue;
+            const double x = a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y);
+            xl = std::min(xl, x);
+            xr = std::max(xr, x);
+            ++crossings;
+        }
+        if (crossings < 2) {
+            row_i0[j] = row_i1[j] = 0;
+            continue;
+        }
+        row_i0[j] = first_centre_at_or_after(xl, N);
+        row_i1[j] = first_centre_at_or_after(xr, N);
+    }
+
+    // Cut the rows into tiles: one fragment per tile the polygon touches, row-major.
+    for (int tr = jlo / m; tr <= (jhi - 1) / m; ++tr) {
+        const int r0 = std::max(jlo, tr * m), r1 = std::min(jhi, tr * m + m);
+        int smin = n, smax = -1;
+        for (int j = r0; j < r1; ++j) {
+            if (row_i1[j] <= row_i0[j]) continue;
+            smin = std::min(smin, row_i0[j] / m);
+            smax = std::max(smax, (row_i1[j] - 1) / m);
+        }
+        for (int s = smin; s <= smax; ++s) {
+            const int c0 = s * m, c1 = c0 + m;
+            int first = -1, last = -1;
+            for (int j = r0; j < r1; ++j) {
+                if (std::max(row_i0[j], c0) < std::min(row_i1[j], c1)) {
+                    if (first < 0) first = j;
+                    last = j;
+                }
+            }
+            if (first < 0) continue;
+            FaceFragment frag;
+            frag.s = static_cast<uint16_t>(s);
+            frag.t = static_cast<uint16_t>(tr);
+            frag.row_begin = static_cast<uint16_t>(first - tr * m);
+            frag.rows = static_cast<uint16_t>(last - first + 1);
+            frag.span_offset = static_cast<uint32_t>(out.spans.size());
+            uint32_t covered = 0;
+            for (int j = first; j <= last; ++j) {
+                const int b = std::max(row_i0[j], c0), e = std::min(row_i1[j], c1);
+                Span span;
+                if (b < e) {
+                    span.begin = static_cast<uint16_t>(b - c0);
+                    span.end = static_cast<uint16_t>(e - c0);
+                    covered += static_cast<uint32_t>(e - b);
+                }
+                out.spans.push_back(span);
+            }
+            frag.covered = covered;
+            out.covered += covered;
+            out.fragments.push_back(frag);
+        }
+    }
+}
+
+PsfMemory memory_of(const Psf& psf) {
+    PsfMemory mem;
+    mem.tiles = sizeof(Psf) + psf.tile_of.capacity() * sizeof(int32_t) +
+                psf.tiles.capacity() * sizeof(Tile);
+    for (const Tile& t : psf.tiles) {
+        mem.fragments += t.fragments.capacity() * sizeof(Fragment);
+        mem.edge_tables += t.spans.capacity() * sizeof(Span);
+    }
+    return mem;
+}
+
+}  // namespace vlf

@@ -1,0 +1,43 @@
+// radiance_maps.hpp — the directional radiance maps of VLF §4.1: for a stored face P and
+// direction omega, L_U (unshot) and L_T (total) over the rays P covers in that PSF, in the
+// order of P's fragments in tile row-major order and, within each, its edge table.
+// Specular faces need both (their light is directional); with --store-all-rays every face
+// keeps L_T for the pure render-from-rays walkthrough (§6.1).
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "vlf/scene/scene.hpp"
+
+namespace vlf {
+
+using RgbF = glm::vec3;  // radiance maps are single precision (memory; DESIGN §4)
+
+struct RadianceMaps {
+    int directions = 0;
+    std::vector<int> slot;         // per face: stored index or -1
+    std::vector<int> faces;        // stored index -> face id
+    std::vector<uint64_t> offset;  // (d * stored + slot) -> first ray; one extra at the end
+    bool with_unshot = false;
+    std::vector<RgbF> unshot;       // L_U, read by the current cycle
+    std::vector<RgbF> unshot_next;  // L_U being written for the next cycle
+    std::vector<RgbF> total;        // L_T
+
+    // coverage[d * face_count + f] = rays face f covers in PSF d.
+    RadianceMaps(const Scene& scene, const std::vector<bool>& stored, int directions,
+                 const std::vector<uint32_t>& coverage, bool with_unshot);
+    RadianceMaps() = default;
+
+    bool stores(int face) const { return face < static_cast<int>(slot.size()) && slot[face] >= 0; }
+    uint64_t begin(int d, int face) const { return offset[size_t(d) * faces.size() + slot[face]]; }
+    uint64_t count(int d, int face) const {
+        const size_t k = size_t(d) * faces.size() + slot[face];
+        return offset[k + 1] - offset[k];
+    }
+    uint64_t rays() const { return offset.empty() ? 0 : offset.back(); }
+    int64_t bytes() const;
+};
+
+}  // namespace vlf

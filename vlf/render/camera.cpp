@@ -1,0 +1,207 @@
+#include "vlf/render/camera.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "vlf/core/error.hpp"
+
+namespace vlf {
+
+namespace {
+
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+void validate_camera(const Camera& c, const std::string& what) {
+    if (!finite(c.eye) || !finite(c.look_at) || !finite(c.up) || !std::isfinite(c.fov_y_deg))
+        throw ParameterError(what + ": non-finite camera value");
+    const Vec3 f = c.look_at - c.eye;
+    if (glm::length(f) <= 0.0) throw ParameterError(what + ": eye and look_at coincide");
+    if (glm::length(c.up) <= 0.0) throw ParameterError(what + ": up is the zero vector");
+    if (glm::length(glm::cross(glm::normalize(f), glm::normalize(c.up))) < 1e-9)
+        throw ParameterError(what + ": up is parallel to the view direction");
+    if (!(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0))
+        throw ParameterError(fmt::format("{}: fov {} outside (0, 180) degrees", what, c.fov_y_deg));
+}
+
+PinholeCamera::PinholeCamera(const Camera& camera, const Normalisation& norm, int width, int height)
+    : m_width(width), m_height(height) {
+    validate_camera(camera, camera.name.empty() ? "camera" : "camera '" + camera.name + "'");
+    if (width < 1 || height < 1)
+        throw ParameterError(fmt::format("image size {}x{} must be positive", width, height));
+    m_eye = norm.to_normalised(camera.eye);
+    m_forward = glm::normalize(camera.look_at - camera.eye);  // uniform scale: unchanged
+    m_right = glm::normalize(glm::cross(m_forward, camera.up));
+    m_up = glm::cross(m_right, m_forward);
+    m_tan_half_y = std::tan(0.5 * camera.fov_y_deg * kPi / 180.0);
+    m_tan_half_x = m_tan_half_y * double(width) / double(height);
+}
+
+Vec3 PinholeCamera::direction(double px, double py) const {
+    const double u = (2.0 * px / m_width - 1.0) * m_tan_half_x;
+    const double v = (1.0 - 2.0 * py / m_height) * m_tan_half_y;  // row 0 at the top
+    return glm::normalize(m_forward + u * m_right + v * m_up);
+}
+
+// ---------------------------------------------------------------------------------------
+
+Camera CameraPath::at(double t) const {
+    VLF_CHECK(!keyframes.empty());
+    const size_t n = keyframes.size();
+    if (n == 1 || t <= keyframes.front().time) return keyframes.front().camera;
+    if (t >= keyframes.back().time) return keyframes.back().camera;
+    size_t k = 0;
+    while (k + 2 < n && keyframes[k + 1].time <= t) ++k;
+    const CameraKeyframe &a = keyframes[k], &b = keyframes[k + 1];
+    const double h = b.time - a.time;
+    const double s = (t - a.time) / h;
+    // Catmull-Rom tangents for non-uniform times; one-sided at the ends.
+    auto tangent = [&](size_t i, auto get) -> Vec3 {
+        const size_t lo = i == 0 ? 0 : i - 1, hi = std::min(i + 1, n - 1);
+        return (get(keyframes[hi]) - get(keyframes[lo])) /
+               (keyframes[hi].time - keyframes[lo].time);
+    };
+    auto hermite = [&](auto get) {
+        const Vec3 p0 = get(a), p1 = get(b);
+        const Vec3 m0 = tangent(k, get), m1 = tangent(k + 1, get);
+        const double s2 = s * s, s3 = s2 * s;
+        return (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * m0 + (-2 * s3 + 3 * s2) * p1 +
+               (s3 - s2) * h * m1;
+    };
+    Camera c;
+    c.name = fmt::format("path@{}", t);
+    c.eye = hermite([](const CameraKeyframe& f) { return f.camera.eye; });
+    c.look_at = hermite([](const CameraKeyframe& f) { return f.camera.look_at; });
+    const Vec3 up = (1 - s) * a.camera.up + s * b.camera.up;
+    c.up = glm::length(up) > 0 ? glm::normalize(up) : a.camera.up;
+    c.fov_y_deg = (1 - s) * a.camera.fov_y_deg + s * b.camera.fov_y_deg;
+    return c;
+}
+
+Camera CameraPath::frame(int k) const {
+    const double t0 = keyframes.front().time, t1 = keyframes.back().time;
+    const double t = frames <= 1 ? t0 : t0 + (t1 - t0) * double(k) / double(frames - 1);
+    Camera c = at(t);
+    c.name = fmt::format("frame {}", k);
+    return c;
+}
+
+CameraPath camera_path_from_json(const nlohmann::json& j, const std::string& name) {
+    std::string where;
+    auto vec = [&](const nlohmann::json& v) {
+        if (!v.is_array() || v.size() != 3) throw Error("expected an array of 3 numbers");
+        for (const auto& x : v)
+            if (!x.is_number()) throw Error("expected an array of 3 numbers");
+        return Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+    };
+    CameraPath p;
+    try {
+        if (!j.is_object()) throw Error("expected an object with \"keyframes\" and \"frames\"");
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (it.key() != "keyframes" && it.key() != "frames") {
+                where = it.key();
+                throw Error("unknown key");
+            }
+        where = "frames";
+        if (!j.contains("frames") || !j["frames"].is_number_integer())
+            throw Error("expected an integer frame count");
+        p.frames = j["frames"].get<int>();
+        if (p.frames < 1 || p.frames > 1000000) throw Error("must be in [1, 1000000]");
+        where = "keyframes";
+        if (!j.contains("keyframes") || !j["keyframes"].is_array() || j["keyframes"].empty())
+            throw Error("expected a non-empty array");
+        const auto& ks = j["keyframes"];
+        for (size_t k = 0; k < ks.size(); ++k) {
+            where = fmt::format("keyframes[{}]", k);
+            const auto& kj = ks[k];
+            if (!kj.is_object()) throw Error("expected an object");
+            CameraKeyframe f;
+            f.time = double(k);
+            f.camera.up = Vec3(0, 1, 0);
+            f.camera.fov_y_deg = 45.0;
+            for (auto it = kj.begin(); it != kj.end(); ++it) {
+                where = fmt::format("keyframes[{}].{}", k, it.key());
+                if (it.key() == "eye")
+                    f.camera.eye = vec(*it);
+                else if (it.key() == "look_at")
+                    f.camera.look_at = vec(*it);
+                else if (it.key() == "up")
+                    f.camera.up = vec(*it);
+                else if (it.key() == "fov_y_deg") {
+                    if (!it->is_number()) throw Error("expected a number");
+                    f.camera.fov_y_deg = it->get<double>();
+                } else if (it.key() == "time") {
+                    if (!it->is_number()) throw Error("expected a number");
+                    f.time = it->get<double>();
+                } else
+                    throw Error("unknown key");
+            }
+            where = fmt::format("keyframes[{}]", k);
+            if (!kj.contains("eye") || !kj.contains("look_at"))
+                throw Error("needs \"eye\" and \"look_at\"");
+            if (!std::isfinite(f.time)) throw Error("non-finite time");
+            if (!p.keyframes.empty() && !(f.time > p.keyframes.back().time))
+                throw Error("times must strictly increase");
+            validate_camera(f.camera, "camera");
+            f.camera.name = fmt::format("keyframe {}", k);
+            p.keyframes.push_back(f);
+        }
+    } catch (const Error& e) {
+        throw Error(fmt::format("{}: {}{}{}", name, where, where.empty() ? "" : ": ", e.what()));
+    }
+    return p;
+}
+
+CameraPath load_camera_path(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw Error(path + ": cannot be opened");
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(path + ": malformed JSON: " + e.what());
+    }
+    return camera_path_from_json(j, path);
+}
+
+Vec3 parse_vec3(const std::string& text, const std::string& option) {
+    Vec3 v(0.0);
+    std::string s = text;
+    std::replace(s.begin(), s.end(), ',', ' ');
+    std::istringstream in(s);
+    int count = 0;
+    double x;
+    while (in >> x) {
+        if (count < 3) v[count] = x;
+        ++count;
+    }
+    in.clear();
+    std::string rest;
+    if (in >> rest || count != 3 || std::count(text.begin(), text.end(), ',') != 2 || !finite(v))
+        throw ParameterError(
+            fmt::format("{}: '{}' is not a vector x,y,z of three finite numbers", option, text));
+    return v;
+}
+
+void parse_size(const std::string& text, const std::string& option, int& width, int& height) {
+    const size_t x = text.find_first_of("xX");
+    auto number = [&](const std::string& s, int& out) {
+        if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos)
+            return false;
+        out = std::stoi(s);
+        return out >= 1 && out <= 16384;
+    };
+    if (x == std::string::npos || !number(text.substr(0, x), width) ||
+        !number(text.substr(x + 1), height))
+        throw ParameterError(
+            fmt::format("{}: '{}' is not a size WxH (integers in [1, 16384])", option, text));
+}
+
+}  // namespace vlf

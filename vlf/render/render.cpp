@@ -1,0 +1,265 @@
+// render.cpp — the walkthrough renderers (VLF §6; DESIGN §7): primary visibility by ray
+// casting, then a lookup in the bake per mode, or the path-traced reference.
+#include "vlf/render/render.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/core/rotation.hpp"
+#include "vlf/field/lightmap.hpp"
+#include "vlf/render/camera.hpp"
+#include "vlf/render/pathtrace.hpp"
+#include "vlf/scene/raycaster.hpp"
+
+namespace vlf {
+
+namespace {
+
+// Ray origin offset along the normal after a mirror bounce (normalised units; see
+// pathtrace.cpp for the choice).
+constexpr double kEps = 1e-5;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
+std::string to_string(RenderMode m) {
+    switch (m) {
+        case RenderMode::Rays:
+            return "rays";
+        case RenderMode::Texture:
+            return "texture";
+        case RenderMode::Raytrace:
+            return "raytrace";
+        case RenderMode::Pathtrace:
+            return "pathtrace";
+    }
+    return "?";
+}
+
+RenderMode render_mode_from_string(const std::string& s) {
+    if (s == "rays") return RenderMode::Rays;
+    if (s == "texture") return RenderMode::Texture;
+    if (s == "raytrace") return RenderMode::Raytrace;
+    if (s == "pathtrace") return RenderMode::Pathtrace;
+    throw ParameterError("--mode: unknown mode '" + s +
+                         "' (expected rays, texture, raytrace or pathtrace)");
+}
+
+struct Renderer::Impl {
+    const Bake& bake;
+    const Scene& scene;
+    RayCaster caster;
+    PathTracer tracer;
+    std::vector<Mat3> rotation;     // per PSF direction: R with R * omega_d = +z
+    std::vector<char> stored_rays;  // per face: the bake holds L_T rays of it
+    int N = 0;
+
+    explicit Impl(const Bake& b)
+        : bake(b), scene(b.scene), caster(b.scene), tracer(b.scene, caster) {
+        const int l = bake.directions.size();
+        if (bake.rays.directions != 0 && bake.rays.directions != l)
+            throw Error("bake: ray images hold " + std::to_string(bake.rays.directions) +
+                        " directions, the direction set " + std::to_string(l));
+        if (bake.texel_offset.size() != scene.faces.size() + 1 ||
+            bake.lightmap_radiance.size() != bake.texel_offset.back())
+            throw Error("bake: light maps do not match the scene's texel grids");
+        rotation.resize(l);
+        for (int d = 0; d < l; ++d) rotation[d] = rotation_to_z(bake.directions.direction(d));
+        N = bake.rays.resolution;
+        stored_rays.assign(scene.faces.size(), 0);
+        for (int32_t f : bake.rays.face)
+            if (f >= 0 && size_t(f) < stored_rays.size()) stored_rays[f] = 1;
+    }
+
+    // P^T of face f at x, bilinear (VLF §6.2/§6.3).
+    Rgb lightmap(const Face& f, const Vec3& x) const {
+        return sample_lightmap(f, bake.lightmap_radiance.data() + bake.texel_offset[f.id], x);
+    }
+
+    // Diffuse contribution of a face: P^T where it reflects diffusely or emits (P^T
+    // includes the emission), nothing for a pure mirror.
+    Rgb diffuse_part(const Face& f, const Vec3& x) const {
+        const Material& m = scene.material_of(f);
+        return (m.is_diffuse() || m.is_emitter()) ? lightmap(f, x) : Rgb(0.0);
+    }
+
+    // VLF §6.3: diffuse from P^T, mirrors by recursive reflection (iterative here: the
+    // mirror's reflectance multiplies what its reflected ray sees), up to max_depth bounces.
+    Rgb raytrace(Vec3 o, Vec3 dir, int max_depth) const {
+        Rgb L(0.0), beta(1.0);
+        for (int depth = 0;; ++depth) {
+            RayHit hit;
+            if (!caster.intersect(o, dir, 0.0, kInf, hit)) break;
+            const Face& f = scene.faces[hit.face];
+            if (glm::dot(dir, f.normal) >= 0.0) break;  // back side: black
+            L += beta * diffuse_part(f, hit.point);
+            const Material& m = scene.material_of(f);
+            if (!m.is_specular() || depth >= max_depth) break;
+            beta *= m.specular;
+            dir = dir - 2.0 * glm::dot(dir, f.normal) * f.normal;
+            o = hit.point + kEps * f.normal;
+        }
+        return L;
+    }
+
+    // L_T of face `face` in PSF d at continuous pixel-centre coordinates (cx, cy) (pixel
+    // (i, j) has its centre at (i, j)): bilinear between the four nearest pixel centres
+    // that hold a sample of the face (renormalised), else inverse-square-distance weights
+    // over the 8-neighbourhood of the pixel containing the point (VLF §6.1 "interpolated
+    // from the 8-neighbourhood").
+    bool interpolate(int d, double cx, double cy, int face, Rgb& out) const {
+        const int i0 = static_cast<int>(std::floor(cx)), j0 = static_cast<int>(std::floor(cy));
+        const double fx = cx - i0, fy = cy - j0;
+        Rgb sum(0.0);
+        double wsum = 0.0;
+        RgbF v;
+        for (int b = 0; b < 2; ++b)
+            for (int a = 0; a < 2; ++a) {
+                const double w = (a ? fx : 1.0 - fx) * (b ? fy : 1.0 - fy);
+                if (w <= 1e-9 || !bake.rays.lookup(d, i0 + a, j0 + b, face, v)) continue;
+                sum += w * Rgb(v);
+                wsum += w;
+            }
+        if (wsum > 0.0) {
+            out = sum / wsum;
+            return true;
+        }
+        const int ic = static_cast<int>(std::floor(cx + 0.5)),
+                  jc = static_cast<int>(std::floor(cy + 0.5));
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                if (!bake.rays.lookup(d, ic + di, jc + dj, face, v)) continue;
+                const double ex = ic + di - cx, ey = jc + dj - cy;
+                const double w = 1.0 / (1e-6 + ex * ex + ey * ey);
+                sum += w * Rgb(v);
+                wsum += w;
+            }
+        if (wsum > 0.0) {
+            out = sum / wsum;
+            return true;
+        }
+        return false;
+    }
+
+    // VLF §6.1: radiance leaving x on face f towards the eye (travel direction t, on f's
+    // front side) from the three PSFs enclosing t. A face's L_T in PSF d is the radiance
+    // leaving it along its front sense of omega_d, so only vertices whose travel direction
+    // sense * omega_d lies on the front side are usable; weights are renormalised.
+    bool from_rays(const Face& f, const Vec3& x, const Vec3& t, Rgb& out) const {
+        if (N <= 0) return false;
+        const EnclosingTriangle e = bake.directions.enclosing(t);
+        Rgb sum(0.0);
+        double wsum = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const int d = e.index[k];
+            if (e.weight[k] <= 0.0) continue;
+            const Vec3 travel = double(e.sense[k]) * bake.directions.direction(d);
+            if (glm::dot(travel, f.normal) <= 0.0) continue;
+            const Vec3 q = rotation[d] * x;
+            const double cx = (q.x + 1.0) * N * 0.5 - 0.5, cy = (q.y + 1.0) * N * 0.5 - 0.5;
+            Rgb v;
+            if (!interpolate(d, cx, cy, f.id, v)) continue;
+            sum += e.weight[k] * v;
+            wsum += e.weight[k];
+        }
+        if (wsum <= 0.0) return false;
+        out = sum / wsum;
+        return true;
+    }
+
+    // Rays (all faces from their stored rays where they have any) or Texture (only faces
+    // with rho_s > 0 from rays, the rest from P^T).
+    Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere, int max_depth) const {
+        RayHit hit;
+        if (!caster.intersect(eye, dir, 0.0, kInf, hit)) return Rgb(0.0);
+        const Face& f = scene.faces[hit.face];
+        if (glm::dot(dir, f.normal) >= 0.0) return Rgb(0.0);  // back side: black
+        const Material& m = scene.material_of(f);
+        const bool use_rays = stored_rays[f.id] && (rays_everywhere || m.is_specular());
+        if (use_rays) {
+            Rgb v;
+            if (from_rays(f, hit.point, -dir, v)) return v;
+        }
+        // No stored ray of this face near x in any usable direction: a mirror falls back
+        // to ray tracing (its L_T would otherwise be missing), a diffuse face to P^T.
+        if (m.is_specular()) return raytrace(eye, dir, max_depth);
+        return lightmap(f, hit.point);
+    }
+};
+
+Renderer::Renderer(const Bake& bake) : m_bake(bake), m_impl(std::make_unique<Impl>(bake)) {}
+
+Renderer::~Renderer() = default;
+
+Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
+    if (s.spp < 1 && s.mode == RenderMode::Pathtrace)
+        throw ParameterError("--spp: must be at least 1");
+    if (s.max_depth < 0) throw ParameterError("max_depth: must be >= 0");
+    if (s.pixel_samples < 1) throw ParameterError("--pixel-samples: must be at least 1");
+    const PinholeCamera cam(camera, m_bake.scene.normalisation, s.width, s.height);
+    Image im;
+    im.width = s.width;
+    im.height = s.height;
+    im.pixels.assign(size_t(s.width) * s.height, Rgb(0.0));
+    const Impl& r = *m_impl;
+    const int k = s.pixel_samples;
+    // Radiance along the primary ray through the image point (px, py).
+    auto shade = [&](double px, double py) {
+        const Vec3 dir = cam.direction(px, py);
+        switch (s.mode) {
+            case RenderMode::Rays:
+                return r.lookup_shade(cam.origin(), dir, true, s.max_depth);
+            case RenderMode::Texture:
+                return r.lookup_shade(cam.origin(), dir, false, s.max_depth);
+            case RenderMode::Raytrace:
+                return r.raytrace(cam.origin(), dir, s.max_depth);
+            case RenderMode::Pathtrace:
+                break;
+        }
+        return Rgb(0.0);
+    };
+    parallel_for(0, s.height, [&](long y) {
+        for (int x = 0; x < s.width; ++x) {
+            Rgb& px = im.at(x, int(y));
+            if (s.mode == RenderMode::Pathtrace) {
+                px = r.tracer.pixel(cam, x, int(y), s.width, s.spp, s.seed);
+                continue;
+            }
+            Rgb sum(0.0);
+            for (int j = 0; j < k; ++j)
+                for (int i = 0; i < k; ++i) sum += shade(x + (i + 0.5) / k, y + (j + 0.5) / k);
+            px = sum / double(k * k);
+        }
+    });
+    return im;
+}
+
+PixelMask Renderer::emitter_mask(const Camera& camera, int width, int height, int k) const {
+    if (k < 1) throw ParameterError("emitter_mask: k must be at least 1");
+    const PinholeCamera cam(camera, m_bake.scene.normalisation, width, height);
+    const Scene& scene = m_bake.scene;
+    PixelMask mask;
+    mask.width = width;
+    mask.height = height;
+    mask.on.assign(size_t(width) * height, 0);
+    parallel_for(0, height, [&](long y) {
+        for (int x = 0; x < width; ++x) {
+            bool seen = false;
+            for (int j = 0; j < k && !seen; ++j)
+                for (int i = 0; i < k && !seen; ++i) {
+                    const Vec3 dir = cam.direction(x + (i + 0.5) / k, y + (j + 0.5) / k);
+                    RayHit hit;
+                    if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kInf, hit)) continue;
+                    const Face& f = scene.faces[hit.face];
+                    seen = glm::dot(dir, f.normal) < 0.0 && scene.material_of(f).is_emitter();
+                }
+            mask.on[size_t(y) * width + x] = seen ? 1 : 0;
+        }
+    });
+    return mask;
+}
+
+}  // namespace vlf

@@ -1,0 +1,92 @@
+// render.hpp — walkthrough rendering of a bake by lookup (VLF §6; DESIGN §7).
+//
+// Primary visibility by ray casting (Embree). Modes:
+//   Rays      §6.1: radiance from L_T of the three PSF directions enclosing the ray,
+//             interpolated over the 8-neighbourhood of the ray's pixel in each PSF and
+//             across directions by spherical barycentric weights; P^T where a face has no
+//             stored rays (diffuse faces unless --store-all-rays);
+//   Texture   §6.2: diffuse from P^T (bilinear), specular faces as in Rays;
+//   Raytrace  §6.3: diffuse from P^T, specular by recursive mirror reflection until a
+//             diffuse surface;
+//   Pathtrace an unbiased Monte-Carlo reference of the same scene (same materials and
+//             Lambertian emitters), the ground truth of the accuracy tests.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vlf/bake/bake.hpp"
+#include "vlf/core/math.hpp"
+#include "vlf/scene/scene.hpp"
+
+namespace vlf {
+
+enum class RenderMode { Rays, Texture, Raytrace, Pathtrace };
+std::string to_string(RenderMode m);
+RenderMode render_mode_from_string(const std::string& s);  // throws ParameterError
+
+struct RenderSettings {
+    int width = 512;
+    int height = 512;
+    RenderMode mode = RenderMode::Texture;
+    int spp = 64;  // pathtrace samples per pixel (jittered over the pixel's area)
+    // Lookup modes: k x k primary rays per pixel on a regular grid, at (x + (i+0.5)/k,
+    // y + (j+0.5)/k), averaged (a box filter over the pixel's area, the footprint of the
+    // path tracer's pixels). 1 = one ray through the pixel centre. Not used by pathtrace.
+    int pixel_samples = 1;
+    int max_depth = 16;  // mirror bounces (raytrace) / path length (pathtrace)
+    uint64_t seed = 1;   // pathtrace random streams, seeded per pixel
+};
+
+// Linear radiance image, row-major, row 0 at the top.
+struct Image {
+    int width = 0, height = 0;
+    std::vector<Rgb> pixels;
+    Rgb& at(int x, int y) { return pixels[size_t(y) * width + x]; }
+    const Rgb& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+};
+
+// One flag per pixel, row-major, row 0 at the top (the layout of Image).
+struct PixelMask {
+    int width = 0, height = 0;
+    std::vector<uint8_t> on;
+    bool at(int x, int y) const { return on[size_t(y) * width + x] != 0; }
+};
+
+class Renderer {
+  public:
+    explicit Renderer(const Bake& bake);  // the bake must outlive the renderer
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Camera in the user's scene units (as in the scene file). Parallel over rows.
+    Image render(const Camera& camera, const RenderSettings& settings) const;
+
+    // Pixels that see an emitting face (Material::is_emitter) from its front: set when
+    // any of the pixel's k x k primary rays (the grid of RenderSettings::pixel_samples)
+    // hits one first. Geometric — it reads no radiance — so it marks the pixels whose
+    // value is the lamp's exact emission, in every mode and in the reference alike. Lamps
+    // seen in a mirror are not marked. Camera in user units; throws ParameterError for
+    // k < 1 or a bad size.
+    PixelMask emitter_mask(const Camera& camera, int width, int height, int k) const;
+
+    const Bake& bake() const { return m_bake; }
+
+  private:
+    struct Impl;
+    const Bake& m_bake;
+    std::unique_ptr<Impl> m_impl;
+};
+
+// Writes .exr (linear, half RGB) or .png (exposure in stops, then a filmic-free Reinhard
+// tone map and sRGB encoding) atomically (temporary name, rename). Throws Error naming the
+// path for an unknown extension or an I/O failure.
+void write_image(const std::string& path, const Image& image, double exposure = 0.0);
+Image read_exr(const std::string& path);  // throws Error
+
+// Image error against a reference (relative_rmse, mean_ratio, image_error): image_metrics.hpp.
+
+}  // namespace vlf

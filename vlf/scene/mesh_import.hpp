@@ -1,0 +1,26 @@
+// mesh_import.hpp — polygon meshes from files (OBJ, PLY, OFF, STL) through OpenMesh's
+// readers (DESIGN §2, §3). Only positions and face outlines are read; the scene loader
+// checks and transforms them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vlf/core/math.hpp"
+
+namespace vlf {
+
+struct ImportedMesh {
+    std::vector<Vec3> vertices;           // file units
+    std::vector<std::vector<int>> faces;  // vertex indices in the file's order (front = CCW)
+};
+
+// True when the file name ends in a supported extension (.obj .ply .off .stl, any case).
+bool is_supported_mesh_file(const std::string& path);
+
+// Reads a mesh. Throws vlf::Error with a message naming the problem but not the place
+// (the caller prefixes "<scene file>: objects[i].file: "): missing or unreadable file,
+// unsupported extension, a reader failure, faces OpenMesh had to drop.
+ImportedMesh import_mesh(const std::string& path);
+
+}  // namespace vlf

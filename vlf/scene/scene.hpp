@@ -1,0 +1,103 @@
+// scene.hpp — the scene model: materials, convex planar faces with texel frames, cameras,
+// and the normalisation into the unit ball (DESIGN §3; VLF §3 "the scene is enclosed by a
+// regular cuboid bound from (-1,-1,-1) to (1,1,1)").
+//
+// All face geometry is stored in *normalised* coordinates (the unit ball), so every rotated
+// copy of the scene projects inside the PSF square [-1,1]^2. Cameras stay in user units;
+// Normalisation converts between the two.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vlf/core/math.hpp"
+
+namespace vlf {
+
+struct Material {
+    std::string name;
+    Rgb diffuse{0.0};   // rho_d per channel
+    Rgb specular{0.0};  // rho_s per channel (ideal mirror)
+    Rgb emission{0.0};  // Le, radiance of a Lambertian emitter, W m^-2 sr^-1
+    bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+    bool is_specular() const { return specular.x > 0 || specular.y > 0 || specular.z > 0; }
+    bool is_diffuse() const { return diffuse.x > 0 || diffuse.y > 0 || diffuse.z > 0; }
+};
+
+// A rectangular texel grid on a face's plane (normalised units). Texel (i, j) covers
+//   origin + [i, i+1]*size*axis_u + [j, j+1]*size*axis_v,   0 <= i < width, 0 <= j < height.
+// axis_u, axis_v are unit, orthogonal, and axis_u x axis_v = face normal. The grid covers
+// the face's bounding rectangle in that frame.
+struct TexelFrame {
+    Vec3 origin{0.0};
+    Vec3 axis_u{1, 0, 0};
+    Vec3 axis_v{0, 1, 0};
+    double size = 1.0;  // texel edge length, normalised units
+    int width = 1;
+    int height = 1;
+    int count() const { return width * height; }
+    // Plane point -> continuous texel coordinates (texel (i,j) spans [i,i+1]x[j,j+1]).
+    Vec2 to_texel(const Vec3& p) const {
+        Vec3 d = p - origin;
+        return {glm::dot(d, axis_u) / size, glm::dot(d, axis_v) / size};
+    }
+    Vec3 to_plane(const Vec2& t) const { return origin + (t.x * axis_u + t.y * axis_v) * size; }
+};
+
+struct Face {
+    int id = 0;                  // index into Scene::faces
+    int object = 0;              // index into Scene::objects
+    int material = 0;            // index into Scene::materials
+    int twin = -1;               // the reverse face of a two-sided face (same polygon, other side)
+    std::vector<Vec3> vertices;  // normalised coords, counter-clockwise seen from the front
+    Vec3 normal{0, 0, 1};        // unit, front side
+    double plane_offset = 0.0;   // dot(normal, x) == plane_offset on the face
+    double area = 0.0;           // normalised units^2
+    TexelFrame texels;
+    // Per texel (row-major, j*width+i): area of texel ∩ polygon in normalised units^2.
+    std::vector<double> texel_area;
+};
+
+struct SceneObject {
+    std::string name;  // from "name" or "<type>#<index>"
+    std::string type;  // polygon, box, sphere, cylinder, mesh
+    int first_face = 0;
+    int face_count = 0;
+};
+
+struct Camera {  // user units
+    std::string name;
+    Vec3 eye{0.0};
+    Vec3 look_at{0, 0, 1};
+    Vec3 up{0, 1, 0};
+    double fov_y_deg = 45.0;
+};
+
+// p_normalised = (p_user - center) * scale
+struct Normalisation {
+    Vec3 center{0.0};
+    double scale = 1.0;
+    Vec3 to_normalised(const Vec3& p) const { return (p - center) * scale; }
+    Vec3 to_user(const Vec3& p) const { return p / scale + center; }
+};
+
+struct Scene {
+    std::string source;  // file the scene was loaded from (for messages only)
+    std::string units;   // informational unit name from the file ("" when absent)
+    std::vector<Material> materials;
+    std::vector<SceneObject> objects;
+    std::vector<Face> faces;
+    std::vector<Camera> cameras;
+    Normalisation normalisation;
+    Vec3 user_bounds_min{0.0}, user_bounds_max{0.0};
+    double texel_size_user = 0.0;  // the texel size used, user units
+    // Surfaces closer than this (normalised units: the texel size) behind the back of
+    // another are sealed by it (sealed_areas.hpp, exchange.hpp kSealed).
+    double seal_gap = 0.0;
+
+    const Material& material_of(const Face& f) const { return materials[f.material]; }
+    int emitter_count() const;        // faces whose material emits
+    int specular_face_count() const;  // faces whose material has rho_s > 0
+};
+
+}  // namespace vlf

@@ -1,0 +1,58 @@
+#include "vlf/scene/sealed_areas.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include "vlf/scene/texel_frame.hpp"
+
+namespace vlf {
+
+void subtract_sealed_areas(Scene& scene, double gap) {
+    // Faces grouped by orientation (normals equal to 1e-6), each group sorted by offset.
+    std::map<std::tuple<long, long, long>, std::vector<int>> groups;
+    for (const Face& f : scene.faces)
+        groups[{std::lround(f.normal.x * 1e6), std::lround(f.normal.y * 1e6),
+                std::lround(f.normal.z * 1e6)}]
+            .push_back(f.id);
+    for (auto& [key, ids] : groups) {
+        std::sort(ids.begin(), ids.end(), [&](int a, int b) {
+            return std::tie(scene.faces[a].plane_offset, a) <
+                   std::tie(scene.faces[b].plane_offset, b);
+        });
+        for (size_t i = 0; i < ids.size(); ++i) {
+            Face& f = scene.faces[ids[i]];
+            for (size_t j = i + 1; j < ids.size(); ++j) {
+                const Face& g = scene.faces[ids[j]];
+                const double d = g.plane_offset - f.plane_offset;
+                if (d > gap) break;
+                if (d <= 0.0) continue;  // coplanar: not in front
+                const std::vector<Vec2> covered =
+                    intersect_convex(polygon_in_texels(f.texels, g.vertices),
+                                     polygon_in_texels(f.texels, f.vertices));
+                if (covered.empty()) continue;
+                double lo_u = covered[0].x, hi_u = lo_u, lo_v = covered[0].y, hi_v = lo_v;
+                for (const Vec2& p : covered) {
+                    lo_u = std::min(lo_u, p.x), hi_u = std::max(hi_u, p.x);
+                    lo_v = std::min(lo_v, p.y), hi_v = std::max(hi_v, p.y);
+                }
+                const double cell = f.texels.size * f.texels.size;
+                const int i0 = std::max(0, int(std::floor(lo_u))),
+                          i1 = std::min(f.texels.width - 1, int(std::floor(hi_u)));
+                const int j0 = std::max(0, int(std::floor(lo_v))),
+                          j1 = std::min(f.texels.height - 1, int(std::floor(hi_v)));
+                for (int v = j0; v <= j1; ++v)
+                    for (int u = i0; u <= i1; ++u) {
+                        double& a = f.texel_area[size_t(v) * f.texels.width + u];
+                        const double cut =
+                            clipped_area(covered, Vec2(u, v), Vec2(u + 1, v + 1)) * cell;
+                        a = std::max(0.0, a - cut);
+                    }
+            }
+        }
+    }
+}
+
+}  // namespace vlf

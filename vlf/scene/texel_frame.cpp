@@ -1,0 +1,160 @@
+// texel_frame.cpp — texel grids and exact texel ∩ polygon areas.
+#include "vlf/scene/texel_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vlf/core/error.hpp"
+
+namespace vlf {
+
+namespace {
+
+// Keeps the part of `in` on the side sign*(x[axis] - bound) >= 0.
+void clip(const std::vector<Vec2>& in, std::vector<Vec2>& out, int axis, double bound,
+          double sign) {
+    out.clear();
+    const size_t m = in.size();
+    if (m == 0) return;
+    for (size_t i = 0; i < m; ++i) {
+        const Vec2& a = in[i];
+        const Vec2& b = in[(i + 1) % m];
+        const double da = sign * (a[axis] - bound);
+        const double db = sign * (b[axis] - bound);
+        if (da >= 0) out.push_back(a);
+        if ((da >= 0) != (db >= 0)) {
+            const double t = da / (da - db);
+            Vec2 x = a + t * (b - a);
+            x[axis] = bound;  // exactly on the clip line
+            out.push_back(x);
+        }
+    }
+}
+
+double shoelace(const std::vector<Vec2>& p) {
+    const size_t m = p.size();
+    if (m < 3) return 0.0;
+    double s = 0;
+    for (size_t i = 0; i < m; ++i) {
+        const Vec2& a = p[i];
+        const Vec2& b = p[(i + 1) % m];
+        s += a.x * b.y - a.y * b.x;
+    }
+    return 0.5 * s;
+}
+
+}  // namespace
+
+double clipped_area(const std::vector<Vec2>& poly, const Vec2& lo, const Vec2& hi) {
+    std::vector<Vec2> a = poly, b;
+    clip(a, b, 0, lo.x, +1);
+    clip(b, a, 0, hi.x, -1);
+    clip(a, b, 1, lo.y, +1);
+    clip(b, a, 1, hi.y, -1);
+    return std::abs(shoelace(a));
+}
+
+std::vector<Vec2> polygon_in_texels(const TexelFrame& frame, const std::vector<Vec3>& vertices) {
+    std::vector<Vec2> p;
+    p.reserve(vertices.size());
+    for (const Vec3& v : vertices) p.push_back(frame.to_texel(v));
+    if (shoelace(p) < 0) std::reverse(p.begin(), p.end());
+    return p;
+}
+
+std::vector<Vec2> intersect_convex(std::vector<Vec2> subject, const std::vector<Vec2>& clip) {
+    std::vector<Vec2> out;
+    for (size_t e = 0; e < clip.size() && subject.size() >= 3; ++e) {
+        const Vec2 a = clip[e], d = clip[(e + 1) % clip.size()] - a;
+        auto side = [&](const Vec2& p) { return d.x * (p.y - a.y) - d.y * (p.x - a.x); };
+        out.clear();
+        for (size_t k = 0; k < subject.size(); ++k) {
+            const Vec2& p = subject[k];
+            const Vec2& q = subject[(k + 1) % subject.size()];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0) out.push_back(p);
+            if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+        }
+        subject.swap(out);
+    }
+    return subject.size() >= 3 ? subject : std::vector<Vec2>{};
+}
+
+void build_texel_frame(Face& face, double texel_size, int max_texels_per_side) {
+    VLF_CHECK(face.vertices.size() >= 3);
+    VLF_CHECK(texel_size > 0 && std::isfinite(texel_size));
+    VLF_CHECK(max_texels_per_side >= 1);
+    const std::vector<Vec3>& p = face.vertices;
+    const size_t m = p.size();
+    const Vec3 n = face.normal;
+
+    // axis_u along the longest edge, made exactly orthogonal to the normal.
+    size_t longest = 0;
+    double best = -1;
+    for (size_t i = 0; i < m; ++i) {
+        const double l = glm::length(p[(i + 1) % m] - p[i]);
+        if (l > best) best = l, longest = i;
+    }
+    Vec3 e = p[(longest + 1) % m] - p[longest];
+    Vec3 u = glm::normalize(e - n * glm::dot(e, n));
+    Vec3 v = glm::normalize(glm::cross(n, u));
+
+    double umin = std::numeric_limits<double>::infinity(), vmin = umin;
+    double umax = -umin, vmax = -umin;
+    for (const Vec3& x : p) {
+        const double a = glm::dot(x, u), b = glm::dot(x, v);
+        umin = std::min(umin, a), umax = std::max(umax, a);
+        vmin = std::min(vmin, b), vmax = std::max(vmax, b);
+    }
+    const double eu = umax - umin, ev = vmax - vmin;
+
+    double size = texel_size;
+    const double longest_extent = std::max(eu, ev);
+    if (longest_extent / size > max_texels_per_side) size = longest_extent / max_texels_per_side;
+    auto cells = [&](double extent) {
+        // A face that is a whole number of texels wide must not get a sliver column from
+        // rounding: 1e-6 of a texel is far below any geometric feature.
+        return std::max(1, static_cast<int>(std::ceil(extent / size - 1e-6)));
+    };
+    // ceil() of a quotient that rounds up past the cap: grow the size by an ulp-scale step.
+    while (cells(eu) > max_texels_per_side || cells(ev) > max_texels_per_side) size *= 1 + 1e-12;
+
+    TexelFrame& f = face.texels;
+    f.axis_u = u;
+    f.axis_v = v;
+    f.origin = n * face.plane_offset + umin * u + vmin * v;
+    f.size = size;
+    f.width = cells(eu);
+    f.height = cells(ev);
+
+    // Polygon in continuous texel coordinates.
+    std::vector<Vec2> q(m);
+    for (size_t i = 0; i < m; ++i)
+        q[i] = {(glm::dot(p[i], u) - umin) / size, (glm::dot(p[i], v) - vmin) / size};
+
+    // Clip once per row, then per column inside the row's strip. The outermost rows and
+    // columns are not clipped on their outer side, so rounding at the bounding rectangle
+    // cannot lose area: the texel areas sum to the polygon's area.
+    face.texel_area.assign(static_cast<size_t>(f.width) * f.height, 0.0);
+    const double s2 = size * size;
+    std::vector<Vec2> strip, tmp, cell, tmp2;
+    for (int j = 0; j < f.height; ++j) {
+        strip = q;
+        if (j > 0) clip(strip, tmp, 1, j, +1), std::swap(strip, tmp);
+        if (j < f.height - 1) clip(strip, tmp, 1, j + 1, -1), std::swap(strip, tmp);
+        if (strip.size() < 3) continue;
+        double smin = std::numeric_limits<double>::infinity(), smax = -smin;
+        for (const Vec2& x : strip) smin = std::min(smin, x.x), smax = std::max(smax, x.x);
+        const int i0 = std::clamp(static_cast<int>(std::floor(smin)), 0, f.width - 1);
+        const int i1 = std::clamp(static_cast<int>(std::floor(smax)), 0, f.width - 1);
+        for (int i = i0; i <= i1; ++i) {
+            cell = strip;
+            if (i > 0) clip(cell, tmp2, 0, i, +1), std::swap(cell, tmp2);
+            if (i < f.width - 1) clip(cell, tmp2, 0, i + 1, -1), std::swap(cell, tmp2);
+            face.texel_area[static_cast<size_t>(j) * f.width + i] = std::abs(shoelace(cell)) * s2;
+        }
+    }
+}
+
+}  // namespace vlf

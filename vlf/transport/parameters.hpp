@@ -1,0 +1,47 @@
+// parameters.hpp — every parameter of a propagation run, with its default, in one struct
+// that the CLI fills, the report and the bake manifest store, and the bake reader reads
+// back (STYLE: parameters serialise both ways).
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "vlf/field/field_params.hpp"
+
+namespace vlf {
+
+struct PropagateParams {
+    FieldParams field;
+    double texel_size = 0.0;   // user units; 0: the scene's settings.texel_size or its default
+    int texel_divisions = 32;  // that default: the scene's bounding-sphere radius / this
+    int cycles = 4;            // propagation cycles (cycle 1 carries the emission); with
+                               // stop_unshot > 0, the most cycles to run
+    // Stop after the cycle that leaves less than this fraction of the emitted power still
+    // to shoot (unshot + deferred), per channel; 0: run all `cycles`.
+    double stop_unshot = 0.0;
+    std::string quality = "custom";  // the preset the parameters came from (quality.hpp)
+    int threads = 0;                 // 0: all hardware threads
+    bool deferred = true;            // VLF §4.5 deferred propagation
+    int perturbations = 0;           // VLF §5 stratified perturbed PSFs per cycle (0: off)
+    // VLF §5: "perturbing the initial few [cycles] is generally adequate"; the later
+    // cycles run the true directions only.
+    int perturb_cycles = 1;
+    double filter_sigma = 0.0;    // VLF §5 Gaussian filter of next texture maps, texels (0: off)
+    int supersample = 1;          // VLF §5 super-sampled exchange at polygon boundaries (s x s)
+    bool resample = true;         // VLF §5 backward ray-traced resampling of specular L_T
+    bool store_all_rays = false;  // store L_T of every fragment, not only specular ones
+    uint64_t seed = 1;            // perturbation stream seed
+    // MiB of per-direction geometry (PSF, beam/texel overlaps, exchange partners) kept
+    // across cycles; directions beyond it are rebuilt every cycle, as in the paper.
+    // 0: keep nothing (least memory). Changes speed and memory only, never the bake.
+    int64_t cache_budget_mib = 3072;
+};
+
+// Throws ParameterError naming the option ("--tile: ...") for any out-of-range value.
+void validate(const PropagateParams& p);
+
+nlohmann::json to_json(const PropagateParams& p);
+PropagateParams propagate_params_from_json(const nlohmann::json& j);  // throws Error
+
+}  // namespace vlf

@@ -1,0 +1,43 @@
+// propagation.hpp — a whole propagation run: cycles with progress and the per-cycle
+// ledger, then the report (DESIGN §5; issue "Propagation"): parameters, scene, ledger,
+// per-surface radiance, timings by phase, memory by structure and peak RSS.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "vlf/scene/scene.hpp"
+#include "vlf/transport/parameters.hpp"
+#include "vlf/transport/transport.hpp"
+
+namespace vlf {
+
+struct RunOptions {
+    bool progress = false;                             // progress bar on stderr
+    std::function<void(const LedgerEntry&)> on_cycle;  // called after every cycle
+};
+
+struct Propagation {
+    std::unique_ptr<Transport> transport;
+    double seconds_total = 0.0;
+    double seconds_resample = 0.0;  // backward ray-traced resampling (VLF §5)
+};
+
+// Runs up to params.cycles cycles, stopping early once settled(ledger, stop_unshot).
+Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts);
+// Less than `stop_unshot` of the emitted power (every channel) is left to shoot.
+bool settled(const LedgerEntry& e, double stop_unshot);
+
+// Per face: {"id", "object", "material", "area", "radiance_mean", "radiance_min",
+// "radiance_max"} — outgoing diffuse radiance of P^T; min/max over texels at least half
+// inside the face; area in user units.
+nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps);
+
+nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
+                                  const Propagation& run, double write_seconds);
+// Sets "write", "total" and "other" (the wall time in no phase) of a report's timings_s.
+void set_write_time(nlohmann::json& timings, const Propagation& run, double write_seconds);
+
+}  // namespace vlf

@@ -1,0 +1,44 @@
+// resample.hpp — backward ray-traced re-sampling of the specular total radiance maps after
+// the last propagation cycle (VLF §5, last part: "re-sample the directional radiance maps
+// on specular surfaces using backwards ray-tracing, following S*D paths only"; the same
+// tracing as §6.3). Every ray of a specular face's L_T is replaced by the radiance found
+// along its real reflection path, so the maps are geometrically sharp and free of the
+// propagation's holes; DESIGN §5 lists it as a switch (PropagateParams::resample).
+#pragma once
+
+#include <vector>
+
+#include "vlf/core/math.hpp"
+#include "vlf/scene/raycaster.hpp"
+#include "vlf/scene/scene.hpp"
+#include "vlf/transport/transport.hpp"
+
+namespace vlf {
+
+// Specular bounces followed at most (the 8th surface reached still adds its own diffuse
+// part, nothing beyond it).
+inline constexpr int kResampleMaxBounces = 8;
+// Ray origins are moved this far (normalised units) along the traced direction.
+inline constexpr double kResampleEpsilon = 1e-6;
+
+// Radiance (W m^-2 sr^-1) leaving face `face` at `point` (normalised coordinates, on the
+// face) along the unit travel direction `travel` (must leave the face's front side):
+// the face's own diffuse part (bilinear P^T radiance) when it is diffuse or emits, plus
+// rho_s times the radiance arriving along the mirror path, traced recursively through
+// specular faces until a non-specular face (its bilinear P^T radiance, emission included),
+// an escape or a back face (both 0). `texel_radiance` is texel_radiance(scene, maps) and
+// `texel_offset` is TextureMaps::offset. At most `max_bounces` mirror steps are traced.
+// Thread-safe.
+Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
+                           const std::vector<Rgb>& texel_radiance,
+                           const std::vector<size_t>& texel_offset, int face, const Vec3& point,
+                           const Vec3& travel, int max_bounces = kResampleMaxBounces);
+
+// Replaces transport.specular_maps().total — L_T of every specular face, every direction,
+// every covered ray — by specular_path_radiance at the ray's point on the face, along the
+// ray's travel direction facing * omega_d. Parallel over directions; every ray is written
+// by one task, so the result does not depend on the number of threads (the third argument
+// is unused: vlf::ThreadLimit governs the threads).
+void resample_specular(Transport& transport, const RayCaster& caster, int threads_unused = 0);
+
+}  // namespace vlf

@@ -1,0 +1,154 @@
+#include "vlf/transport/specular.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/field/psf.hpp"
+
+namespace vlf {
+
+int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
+                     const std::vector<uint32_t>& coverage, size_t face_count,
+                     std::array<int, 3>& dir, std::array<double, 3>& weight) {
+    const Vec3 n = f.normal;
+    const Vec3 out = incoming_travel - 2.0 * glm::dot(incoming_travel, n) * n;  // mirror
+    const EnclosingTriangle tri = dirs.enclosing(glm::normalize(out));
+    int k = 0;
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        const int d = tri.index[i];
+        if (tri.weight[i] <= 0.0) continue;
+        // The face must emit along sense * omega_d: its front must face that way.
+        if (glm::dot(n, dirs.direction(d)) * tri.sense[i] <= 1e-12) continue;
+        if (coverage[size_t(d) * face_count + f.id] == 0) continue;
+        bool merged = false;  // the same line can appear twice near the equator
+        for (int j = 0; j < k; ++j)
+            if (dir[j] == d) {
+                weight[j] += tri.weight[i];
+                merged = true;
+            }
+        if (!merged) {
+            dir[k] = d;
+            weight[k] = tri.weight[i];
+            ++k;
+        }
+        sum += tri.weight[i];
+    }
+    for (int j = 0; j < k; ++j) weight[j] /= sum;
+    return k;
+}
+
+namespace {
+
+struct TargetRef {
+    int face;
+    uint32_t source;
+    double weight;
+};
+
+// Incoming radiance of the source at pixel (i, j): the covered pixel itself, else the mean
+// of covered 8-neighbours (the beam hit the face there but the centre fell just outside).
+bool sample_source(const SpecularSource& s, int i, int j, RgbF& value) {
+    const int x = i - s.i0, y = j - s.j0;
+    auto at = [&](int a, int b) { return size_t(b) * s.width + a; };
+    if (x >= 0 && y >= 0 && x < s.width && y < s.height && s.covered[at(x, y)]) {
+        value = s.radiance[at(x, y)];
+        return true;
+    }
+    RgbF sum(0.0f);
+    int n = 0;
+    for (int b = y - 1; b <= y + 1; ++b)
+        for (int a = x - 1; a <= x + 1; ++a)
+            if (a >= 0 && b >= 0 && a < s.width && b < s.height && s.covered[at(a, b)]) {
+                sum += s.radiance[at(a, b)];
+                ++n;
+            }
+    if (n == 0) return false;
+    value = sum / float(n);
+    return true;
+}
+
+}  // namespace
+
+Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
+                    const std::vector<Mat3>& rotations, int N, int m,
+                    const std::vector<SpecularSource>& sources, RadianceMaps& maps) {
+    // Invert: per target direction, (face, source, weight) in source order.
+    std::vector<std::vector<TargetRef>> by_direction(dirs.size());
+    for (uint32_t s = 0; s < sources.size(); ++s)
+        for (int k = 0; k < sources[s].targets; ++k)
+            by_direction[sources[s].target_direction[k]].push_back(
+                {sources[s].face, s, sources[s].target_weight[k]});
+    for (auto& v : by_direction)
+        std::stable_sort(v.begin(), v.end(),
+                         [](const TargetRef& a, const TargetRef& b) { return a.face < b.face; });
+
+    const double ray_area = 4.0 / (double(N) * N);
+    std::vector<Rgb> rounding(dirs.size(), Rgb(0.0));  // per target direction
+    parallel_for(0, dirs.size(), [&](long d) {
+        const auto& refs = by_direction[d];
+        if (refs.empty()) return;
+        const Mat3& rot = rotations[d];
+        const double beam = ray_area * dirs.solid_angle(static_cast<int>(d));  // a * Delta
+        FaceRaster fr;
+        std::vector<Vec3> points;  // scene-frame points of the face's rays
+        std::vector<Rgb> acc, g;
+        size_t r = 0;
+        while (r < refs.size()) {
+            const int fid = refs[r].face;
+            const Face& face = scene.faces[fid];
+            rasterise_face(face, rot, N, m, fr);
+            const uint64_t base = maps.begin(static_cast<int>(d), fid);
+            VLF_CHECK(maps.count(static_cast<int>(d), fid) == fr.covered);
+            // Points of the face's rays, in its face-local ray order.
+            points.clear();
+            const Vec3 nr = rot * face.normal;
+            const Mat3 rt = glm::transpose(rot);
+            for (const FaceFragment& ff : fr.fragments)
+                fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
+                    const double x = (2.0 * (ff.s * m + u) + 1.0) / N - 1.0;
+                    const double y = (2.0 * (ff.t * m + v) + 1.0) / N - 1.0;
+                    const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
+                    points.push_back(rt * Vec3(x, y, z));
+                });
+            acc.assign(points.size(), Rgb(0.0));
+            g.resize(points.size());
+            for (; r < refs.size() && refs[r].face == fid; ++r) {
+                const SpecularSource& src = sources[refs[r].source];
+                Rgb total(0.0);
+                for (size_t k = 0; k < points.size(); ++k) {
+                    const Vec3 q = src.rotation * points[k];
+                    const int i = static_cast<int>(std::floor((q.x + 1.0) * 0.5 * src.resolution));
+                    const int j = static_cast<int>(std::floor((q.y + 1.0) * 0.5 * src.resolution));
+                    RgbF value;
+                    g[k] = sample_source(src, i, j, value) ? Rgb(value) : Rgb(0.0);
+                    total += g[k];
+                }
+                const Rgb deposit = refs[r].weight * src.power;  // power into this direction
+                for (int c = 0; c < 3; ++c) {
+                    if (deposit[c] <= 0.0) continue;
+                    if (total[c] > 0.0) {
+                        const double scale = deposit[c] / (total[c] * beam);
+                        for (size_t k = 0; k < points.size(); ++k) acc[k][c] += g[k][c] * scale;
+                    } else {  // nothing to map back: spread evenly (energy is still exact)
+                        const double each = deposit[c] / (double(points.size()) * beam);
+                        for (size_t k = 0; k < points.size(); ++k) acc[k][c] += each;
+                    }
+                }
+            }
+            for (size_t k = 0; k < points.size(); ++k) {
+                const RgbF before = maps.unshot_next[base + k];
+                maps.unshot_next[base + k] += RgbF(acc[k]);
+                // What single precision kept of the deposit, against what was deposited.
+                rounding[d] += (acc[k] - (Rgb(maps.unshot_next[base + k]) - Rgb(before))) * beam;
+            }
+        }
+    });
+    Rgb total(0.0);
+    for (const Rgb& r : rounding) total += r;
+    return total;
+}
+
+}  // namespace vlf

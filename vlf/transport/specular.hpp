@@ -1,0 +1,58 @@
+// specular.hpp — transfers *to* specular receivers (VLF §4.2 "Diffuse to Specular", §4.3
+// "Specular to Specular"; DESIGN §5 "Specular receiver").
+//
+// Light arriving at a mirror P along PSF omega is reflected about P's normal; the mirrored
+// direction generally is no PSF direction, so its power is split over the three enclosing
+// directions by barycentric weight (§4.2). Within each target direction omega', every ray
+// of P's unshot radiance map L_U(omega', P) *gathers* by backward mapping: its point on P
+// is projected back into the source PSF and picks up the incoming radiance there, so no
+// target cell is left as a hole. The gathered pattern is then scaled so the power
+// deposited equals w_i * rho_s * (power received), channel by channel: exact energy.
+//
+// A source is recorded while its direction is processed (phase 1 of a cycle, in parallel
+// over directions); the gathers run afterwards (phase 2, in parallel over target
+// directions). Each target (omega', P) is written by one task, in source order, so the
+// result is independent of thread count.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "vlf/core/math.hpp"
+#include "vlf/field/direction_set.hpp"
+#include "vlf/field/radiance_maps.hpp"
+#include "vlf/scene/scene.hpp"
+
+namespace vlf {
+
+struct SpecularSource {
+    int face = 0;
+    Mat3 rotation{1.0};  // of the source PSF (true or perturbed direction)
+    int resolution = 0;  // of the source PSF's ray grid (N, or N * supersample)
+    int i0 = 0, j0 = 0;  // window origin in source pixels
+    int width = 0, height = 0;
+    std::vector<RgbF> radiance;    // incoming radiance per window pixel
+    std::vector<uint8_t> covered;  // 1 where the face covers the pixel
+    Rgb power{0.0};                // reflected power rho_s * received, normalised units
+    int targets = 0;
+    std::array<int, 3> target_direction{};
+    std::array<double, 3> target_weight{};
+};
+
+// The reflected travel direction's enclosing PSF directions on which face `f` shows its
+// front and has rays (`coverage[d * faces + f]`), weights renormalised; returns how many.
+int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
+                     const std::vector<uint32_t>& coverage, size_t face_count,
+                     std::array<int, 3>& dir, std::array<double, 3>& weight);
+
+// Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
+// zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).
+// `rotations[d]` is the rotation of PSF d; `ray_area` = (2/N)^2.
+// Returns the power that single-precision storage rounded away (deposited minus stored,
+// either sign), so the ledger can book it.
+Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
+                    const std::vector<Mat3>& rotations, int resolution, int tile,
+                    const std::vector<SpecularSource>& sources, RadianceMaps& maps);
+
+}  // namespace vlf

@@ -1,0 +1,60 @@
+// texel_clip.hpp — "continuous" clipping between a surface's texel grid and the PSF ray
+// grid (VLF §4.2: "Discrete cells on a sender Q are mapped onto a receiver using polygon
+// clipping ... The ratio of intersected (visible) to total area of the sender cell
+// determines the amount of radiance attributed to the receiver cell"; Fig. 5).
+//
+// A ray's beam has a square cross-section (its pixel); on a face's plane that square is a
+// parallelogram, and in the face's texel coordinates (texel (i,j) = [i,i+1]x[j,j+1]) it
+// is still a parallelogram because the map PSF -> plane -> texels is affine. The overlap
+// of that parallelogram with each texel cell is the exact weight both for sending (texel
+// -> ray) and for receiving (ray -> texel).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vlf/core/math.hpp"
+#include "vlf/scene/scene.hpp"
+
+namespace vlf {
+
+// The affine map from rotated-frame (x, y) of a PSF to a face's texel coordinates:
+// texel = origin + x * dx + y * dy.
+struct PsfToTexel {
+    Vec2 origin{0.0}, dx{0.0}, dy{0.0};
+    Vec2 operator()(double x, double y) const { return origin + x * dx + y * dy; }
+};
+
+PsfToTexel psf_to_texel(const Face& face, const Mat3& rotation);
+
+struct TexelOverlap {
+    uint32_t texel;  // j * width + i
+    float area;      // overlap area, texel units (any common unit works: only ratios matter)
+};
+
+// Appends the overlaps of the convex quadrilateral `quad` (texel coordinates, any winding)
+// with the cells of a width x height grid whose rim cells extend to infinity outwards (so
+// every part of the quad lands on some cell). Returns the number of entries appended.
+int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<TexelOverlap>& out);
+
+// A covered ray's beam on its face (docs/propagation.md §3): rays are sampled at pixel
+// centres, so a beam whose centre is inside the polygon may spill over an edge while the
+// beams next to it, whose centres fell outside, leave a gap inside. The weights are the
+// quad ∩ polygon plus each part beyond an edge mirrored back across that edge, ∩ polygon.
+// For a straight edge this is unbiased: averaged over the position of the ray grid, every
+// point of the face receives the same weight density (the footprint is centrally
+// symmetric, so the mirrored spill fills exactly the expected gap). The quad and the
+// convex polygon (counter-clockwise) are in texel coordinates.
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
+                           int height, std::vector<TexelOverlap>& out);
+
+// The face's polygon in its texel coordinates, counter-clockwise.
+std::vector<Vec2> face_in_texels(const Face& face);
+
+// Overlaps of the beam of pixel (i, j) of an N x N PSF, clipped to the face's polygon (in
+// texel coordinates, from face_in_texels), with the face's texels.
+int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
+                         const std::vector<Vec2>& polygon, int width, int height,
+                         std::vector<TexelOverlap>& out);
+
+}  // namespace vlf

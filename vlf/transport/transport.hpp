@@ -1,0 +1,138 @@
+// transport.hpp — the propagation cycles of VLF §4.1 with the transfers of §4.2–4.4, in
+// power units (DESIGN §5).
+//
+// One cycle, for every direction (in parallel over fixed chunks of directions):
+//   1. rasterise the PSF; per face, clip every covered ray's beam against the face's
+//      texel grid (§4.2 continuous clipping) — the weights serve both sending and receiving;
+//   2. senders load their rays: diffuse texels share their unshot power U over the travel
+//      directions on their front side by cos(theta_d) * Delta_d / sum_d' cos * Delta
+//      (§4.4 eq. (3), solid-angle corrected), within a direction over the rays their beam
+//      overlaps, by overlap area; specular faces add L_U * a * Delta; L_T += the ray's
+//      radiance (§4.1 line 9);
+//   3. exchange per tile: each ray's power moves to the facing fragment X(P) (§4.1 lines
+//      5–8); rays leaving the scene are escaped, rays hitting a back face are absorbed;
+//   4. receivers: rho_d of the power goes to P^N over the texels the beam overlaps (§4.1
+//      line 10, the temporary radiance tile), (1 - rho_d - rho_s) is absorbed, rho_s is
+//      reflected into the unshot maps of the enclosing mirror directions (specular.hpp).
+// Then P^T += P^N; P^C <- P^N (or kept, for deferred faces, §4.5); L_U <- L_U next.
+//
+// The reductions are explicit: chunk accumulators of P^N and of the ledger are summed in
+// chunk order, specular deposits are gathered per target; so the maps after a cycle do not
+// depend on the number of threads (DESIGN §5 Parallelism).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "vlf/field/direction_set.hpp"
+#include "vlf/field/radiance_maps.hpp"
+#include "vlf/field/texture_maps.hpp"
+#include "vlf/scene/scene.hpp"
+#include "vlf/transport/ledger.hpp"
+#include "vlf/transport/parameters.hpp"
+#include "vlf/transport/rim_pools.hpp"
+
+namespace vlf {
+
+// Rays each face covers in each PSF: coverage[d * faces + f].
+std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
+                                       int resolution, int tile);
+// Per face: sum over covered directions of |n . omega_d| * Delta_d (VLF §4.4 eq. (3)).
+std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
+                                     const std::vector<Mat3>& rotations,
+                                     const std::vector<uint32_t>& coverage);
+
+struct DirectionGeometry;  // per-direction PSF, overlaps and exchange partners (transport.cpp)
+
+// Wall-clock seconds of each phase of the propagation (they add up to the transport's
+// wall time), and the CPU seconds, summed over worker threads, inside the passes.
+struct TransportTimings {
+    double setup = 0;        // directions, rotations, coverage, normalisers, maps, pools
+    double passes = 0;       // the true and perturbed passes over all directions
+    double specular = 0;     // gathering reflected light into the mirrors' unshot maps
+    double filter = 0;       // rim pooling and the Gaussian filter of P^N
+    double bookkeeping = 0;  // deferral choice, map swaps, the ledger
+    // CPU seconds inside the passes, by step.
+    double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
+    double wall() const { return setup + passes + specular + filter + bookkeeping; }
+};
+
+class Transport {
+  public:
+    Transport(const Scene& scene, const PropagateParams& params);
+    ~Transport();
+    Transport(const Transport&) = delete;
+    Transport& operator=(const Transport&) = delete;
+
+    // Runs cycle `cycles_done() + 1`; `last` disables deferral (all faces shoot).
+    void run_cycle(bool last);
+    // After the last cycle: light the mirrors received in it is still in L_U; add it to
+    // L_T so the stored outgoing radiance holds every bounce, like P^T does.
+    void fold_unshot_into_total();
+    // Advanced by one for every direction of every pass processed (may be null).
+    void set_progress(class Progress* progress) { m_progress = progress; }
+    // Directions processed by `cycles` cycles (every pass of each): the unit of progress.
+    int64_t work(int cycles) const;
+    int cycles_done() const { return static_cast<int>(m_ledger.size()); }
+    const std::vector<LedgerEntry>& ledger() const { return m_ledger; }
+
+    const Scene& scene() const { return m_scene; }
+    const PropagateParams& params() const { return m_params; }
+    const DirectionSet& directions() const { return m_dirs; }
+    const TextureMaps& texture_maps() const { return m_tex; }
+    const RadianceMaps& specular_maps() const { return m_spec; }
+    RadianceMaps& specular_maps() { return m_spec; }
+    const RadianceMaps& other_maps() const { return m_other; }
+    const std::vector<Mat3>& rotations() const { return m_rot; }
+    const std::vector<uint32_t>& coverage() const { return m_coverage; }
+    const TransportTimings& timings() const { return m_timings; }
+    int64_t memory_bytes() const;
+    int64_t geometry_cache_bytes() const;
+    // Directions whose geometry is kept across cycles (within params().cache_budget_mib).
+    int cached_directions() const;
+    // Faces deferred in the last cycle run (VLF §4.5).
+    const std::vector<uint8_t>& deferred() const { return m_deferred; }
+    // Ledger values are kept in normalised units internally; this converts a power to
+    // the user's units (area scale^-2).
+    double to_user_power() const;
+
+  private:
+    void load_emission(LedgerEntry& e);
+    void choose_deferred(bool last);
+    // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
+    void run_pass(int pass, double share);
+    // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
+    void release_perturbed_geometry();
+
+    // The direction set of one pass: rotations to +z and the diffuse send normalisers.
+    struct Pass {
+        std::vector<Mat3> rotations;
+        std::vector<double> send_norm;  // per face: sum_d |n . omega_d| Delta_d, covered d
+    };
+
+    const Scene& m_scene;
+    PropagateParams m_params;
+    DirectionSet m_dirs;
+    std::vector<Mat3> m_rot;           // per direction (= m_passes[0].rotations)
+    std::vector<uint32_t> m_coverage;  // d * faces + f: covered rays on the N x N grid
+    std::vector<Pass> m_passes;        // the true directions, then each perturbation
+    TextureMaps m_tex;
+    RadianceMaps m_spec;                        // L_U, L_T of specular faces
+    RadianceMaps m_other;                       // L_T of the other faces (--store-all-rays)
+    std::vector<uint8_t> m_deferred;            // per face, this cycle
+    std::vector<std::vector<Vec2>> m_polygons;  // per face: its polygon in texel coordinates
+    RimPools m_pools;                           // rim texels and the texels they pool with
+    std::vector<LedgerEntry> m_ledger;
+    LedgerEntry m_running;            // cumulative absorbed/escaped/emitted
+    double m_mean_reflectance = 0.0;  // rho_S of §4.5 eq. (4)
+    TransportTimings m_timings;
+    std::atomic<int64_t> m_cache_used{0};  // bytes of geometry in m_cache
+    class Progress* m_progress = nullptr;
+    std::vector<std::unique_ptr<DirectionGeometry>> m_cache;  // pass * l + d
+    struct Workspace;
+    std::unique_ptr<Workspace> m_work;
+};
+
+}  // namespace vlf
