@@ -1,5 +1,6 @@
 // Hot-kernel benchmarks: continuous clipping of one beam against a texel grid, and one
-// walkthrough lookup (L_T of a face on a ray of the light field, and a P^T lookup).
+// walkthrough lookup (L_T of a face on a ray of the light field, and a P^T lookup), and the
+// SHA-256 that checks every bake file when a bundle is loaded.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -7,6 +8,7 @@
 #include <random>
 
 #include "vlf/bake/bake.hpp"
+#include "vlf/core/checksum.hpp"
 #include "vlf/field/lightmap.hpp"
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/propagation.hpp"
@@ -91,5 +93,13 @@ void BM_LightmapLookup(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(vlf::sample_lightmap(f, rad, pts[k++ & 1023]));
 }
 BENCHMARK(BM_LightmapLookup);
+
+// SHA-256 throughput over a 16 MiB buffer (bytes/s in the output).
+void BM_Sha256(benchmark::State& state) {
+    const std::string data(16 << 20, 'v');
+    for (auto _ : state) benchmark::DoNotOptimize(vlf::sha256_hex(data));
+    state.SetBytesProcessed(int64_t(state.iterations()) * int64_t(data.size()));
+}
+BENCHMARK(BM_Sha256);
 
 }  // namespace

@@ -1,12 +1,12 @@
-// checksum.hpp — SHA-256 (FIPS 180-4) for the bake bundle's file checksums (DESIGN §6:
-// "a checksum of every other file" in manifest.json). None of the project's dependencies
-// offers a hash, so this is a small, self-contained implementation tested against the
-// FIPS 180-4 / NIST example vectors (tests/bake_test.cpp).
+// checksum.hpp — SHA-256 for the bake bundle's file checksums (DESIGN §6: "a checksum of
+// every other file" in manifest.json), computed by OpenSSL's libcrypto (EVP interface).
+// Tested against the FIPS 180-4 / NIST example vectors (tests/bake_test.cpp).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -16,18 +16,17 @@ namespace vlf {
 class Sha256 {
   public:
     Sha256();
+    ~Sha256();
+    Sha256(const Sha256&) = delete;
+    Sha256& operator=(const Sha256&) = delete;
     void update(const void* data, size_t bytes);
     void update(std::string_view s) { update(s.data(), s.size()); }
     std::array<uint8_t, 32> digest();  // finalises; the object must not be updated after
     std::string hex_digest();          // 64 lower-case hex digits
 
   private:
-    void compress(const uint8_t* block);
-
-    std::array<uint32_t, 8> m_state;
-    std::array<uint8_t, 64> m_buffer{};
-    size_t m_buffered = 0;
-    uint64_t m_length = 0;  // bytes hashed so far
+    struct Context;
+    std::unique_ptr<Context> m_context;
 };
 
 std::string sha256_hex(std::string_view data);
