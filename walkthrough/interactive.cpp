@@ -3,7 +3,7 @@
 //
 // The renderer produces linear radiance on the CPU; the window tone-maps it with the PNG
 // tone map (vlf::tone_map_srgb8: exposure, Reinhard, sRGB), draws the status text into the
-// 8-bit image with a built-in 5x7 font and shows it as one texture on a full-window quad
+// 8-bit image with stb_easy_font and shows it as one texture on a full-window quad
 // (OpenGL 2.1 is enough). A new image is rendered only when the view changed (camera, mode,
 // size) or a still pathtrace view accumulates more samples; otherwise the window sleeps in
 // glfwWaitEventsTimeout.
@@ -12,6 +12,11 @@
 #include <GLFW/glfw3.h>  // also includes <GL/gl.h>
 #include <fmt/format.h>
 #include <stb_image_write.h>  // implementation lives in libstb: do not define the macro
+// stb_easy_font is header-only with static functions, some of which this file does not use.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#include <stb_easy_font.h>
+#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <array>
@@ -128,96 +133,48 @@ double scene_extent(const vlf::Renderer& renderer, const Camera& start) {
 }
 
 // ---------------------------------------------------------------------------------------
-// A 5x7 bitmap font for the status text: each glyph is 7 rows, bit 4 the leftmost column.
+// The status text, drawn with stb_easy_font: it emits every glyph as axis-aligned quads
+// (four vertices of x, y, z floats and four colour bytes, y down), which are filled into
+// the image `scale` pixels per font unit.
 
-const uint8_t* glyph(char ch) {
-    struct Glyph {
-        char c;
-        uint8_t rows[7];
-    };
-    static constexpr Glyph kFont[] = {
-        {' ', {0, 0, 0, 0, 0, 0, 0}},
-        {'0', {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}},
-        {'1', {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E}},
-        {'2', {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}},
-        {'3', {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E}},
-        {'4', {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}},
-        {'5', {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E}},
-        {'6', {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}},
-        {'7', {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}},
-        {'8', {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}},
-        {'9', {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}},
-        {'A', {0x0E, 0x11, 0x11, 0x11, 0x1F, 0x11, 0x11}},
-        {'B', {0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E}},
-        {'C', {0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E}},
-        {'D', {0x1C, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1C}},
-        {'E', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F}},
-        {'F', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10}},
-        {'G', {0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F}},
-        {'H', {0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}},
-        {'I', {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
-        {'J', {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C}},
-        {'K', {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11}},
-        {'L', {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F}},
-        {'M', {0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11}},
-        {'N', {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11}},
-        {'O', {0x0E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}},
-        {'P', {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}},
-        {'Q', {0x0E, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0D}},
-        {'R', {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11}},
-        {'S', {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E}},
-        {'T', {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}},
-        {'U', {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0E}},
-        {'V', {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04}},
-        {'W', {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A}},
-        {'X', {0x11, 0x11, 0x0A, 0x04, 0x0A, 0x11, 0x11}},
-        {'Y', {0x11, 0x11, 0x11, 0x0A, 0x04, 0x04, 0x04}},
-        {'Z', {0x1F, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1F}},
-        {'.', {0, 0, 0, 0, 0, 0x0C, 0x0C}},
-        {',', {0, 0, 0, 0, 0x0C, 0x04, 0x08}},
-        {':', {0, 0x0C, 0x0C, 0, 0x0C, 0x0C, 0}},
-        {'-', {0, 0, 0, 0x1F, 0, 0, 0}},
-        {'+', {0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0}},
-        {'=', {0, 0, 0x1F, 0, 0x1F, 0, 0}},
-        {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}},
-        {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}},
-        {'/', {0, 0x01, 0x02, 0x04, 0x08, 0x10, 0}},
-        {'%', {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03}},
-        {'_', {0, 0, 0, 0, 0, 0, 0x1F}},
-        {'!', {0x04, 0x04, 0x04, 0x04, 0x04, 0, 0x04}},
-        {'?', {0x0E, 0x11, 0x01, 0x02, 0x04, 0, 0x04}},
-    };
-    if (ch >= 'a' && ch <= 'z') ch = char(ch - 'a' + 'A');
-    for (const Glyph& g : kFont)
-        if (g.c == ch) return g.rows;
-    return glyph('?');
-}
+struct FontVertex {
+    float x, y, z;
+    uint8_t color[4];
+};
 
 // Draws text lines at the top left of an RGB8 image (row 0 at the top) over a darkened
 // box, so it stays legible on the bright walls of a lit room.
 void draw_text(std::vector<uint8_t>& rgb, int w, int h, const std::vector<std::string>& lines) {
     const int scale = std::max(1, std::min(w / 400, h / 300) + 1);
-    const int advance = 6 * scale, line_h = 9 * scale, margin = 3 * scale;
-    size_t longest = 0;
-    for (const auto& l : lines) longest = std::max(longest, l.size());
-    const int box_w = std::min(w, int(longest) * advance + 2 * margin);
-    const int box_h = std::min(h, int(lines.size()) * line_h + 2 * margin - 2 * scale);
+    const int line_h = 12 * scale, margin = 3 * scale;
+    int longest = 0;
+    for (const std::string& l : lines) {
+        std::string text = l;
+        longest = std::max(longest, stb_easy_font_width(text.data()));
+    }
+    const int box_w = std::min(w, longest * scale + 2 * margin);
+    const int box_h = std::min(h, int(lines.size()) * line_h + 2 * margin);
     for (int y = 0; y < box_h; ++y)
         for (int x = 0; x < box_w; ++x)
             for (int c = 0; c < 3; ++c) {
                 uint8_t& v = rgb[(size_t(y) * w + x) * 3 + c];
                 v = uint8_t(v / 3);
             }
+    std::vector<FontVertex> quads(16384);
     for (size_t li = 0; li < lines.size(); ++li) {
+        std::string text = lines[li];
+        const int n = stb_easy_font_print(0.0f, 0.0f, text.data(), nullptr, quads.data(),
+                                          int(quads.size() * sizeof(FontVertex)));
         const int y0 = margin + int(li) * line_h;
-        for (size_t ci = 0; ci < lines[li].size(); ++ci) {
-            const uint8_t* rows = glyph(lines[li][ci]);
-            const int x0 = margin + int(ci) * advance;
-            for (int gy = 0; gy < 7 * scale; ++gy)
-                for (int gx = 0; gx < 5 * scale; ++gx) {
-                    if (!(rows[gy / scale] & (0x10 >> (gx / scale)))) continue;
-                    const int x = x0 + gx, y = y0 + gy;
-                    if (x >= w || y >= h) continue;
+        for (int q = 0; q < n; ++q) {
+            const FontVertex* v = &quads[size_t(q) * 4];
+            const int xa = margin + int(std::lround(v[0].x * scale));
+            const int xb = margin + int(std::lround(v[2].x * scale));
+            const int ya = y0 + int(std::lround(v[0].y * scale));
+            const int yb = y0 + int(std::lround(v[2].y * scale));
+            for (int y = std::max(0, std::min(ya, yb)); y < std::min(h, std::max(ya, yb)); ++y)
+                for (int x = std::max(0, std::min(xa, xb)); x < std::min(w, std::max(xa, xb));
+                     ++x) {
                     uint8_t* p = &rgb[(size_t(y) * w + x) * 3];
                     p[0] = 255, p[1] = 240, p[2] = 120;  // warm yellow, visible on white
                 }
