@@ -2,8 +2,9 @@
 #include <benchmark/benchmark.h>
 
 #include "vlf/core/parallel.hpp"
+#include "vlf/field/direction_set.hpp"
 #include "vlf/field/exchange.hpp"
-#include "vlf/field/light_field.hpp"
+#include "vlf/field/field_stats.hpp"
 #include "vlf/scene/scene_loader.hpp"
 
 namespace {
@@ -34,9 +35,14 @@ void BM_RasteriseField(benchmark::State& state) {
     p.directions = static_cast<int>(state.range(0));
     p.resolution = static_cast<int>(state.range(1));
     p.tile = static_cast<int>(state.range(2));
+    const vlf::DirectionSet dirs(p.directions, p.scheme);
     for (auto _ : state) {
-        vlf::LightField field = vlf::build_light_field(scene, p);
-        benchmark::DoNotOptimize(field.psfs.data());
+        std::vector<vlf::Psf> field(dirs.size());
+        vlf::parallel_for(0, dirs.size(), [&](long d) {
+            field[d] =
+                vlf::rasterise_psf(scene, dirs.direction(int(d)), int(d), p.resolution, p.tile);
+        });
+        benchmark::DoNotOptimize(field.data());
     }
 }
 BENCHMARK(BM_RasteriseField)

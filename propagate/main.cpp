@@ -14,7 +14,7 @@
 #include "vlf/core/memory.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
-#include "vlf/field/light_field.hpp"
+#include "vlf/field/field_stats.hpp"
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/parameters.hpp"
 #include "vlf/transport/propagation.hpp"

@@ -11,7 +11,7 @@
 
 #include <cstddef>
 
-#include "vlf/render/render.hpp"
+#include "vlf/render/image_io.hpp"
 
 namespace vlf {
 

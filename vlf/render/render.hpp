@@ -19,6 +19,7 @@
 
 #include "vlf/bake/bake.hpp"
 #include "vlf/core/math.hpp"
+#include "vlf/render/image_io.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
@@ -38,21 +39,6 @@ struct RenderSettings {
     int pixel_samples = 1;
     int max_depth = 16;  // mirror bounces (raytrace) / path length (pathtrace)
     uint64_t seed = 1;   // pathtrace random streams, seeded per pixel
-};
-
-// Linear radiance image, row-major, row 0 at the top.
-struct Image {
-    int width = 0, height = 0;
-    std::vector<Rgb> pixels;
-    Rgb& at(int x, int y) { return pixels[size_t(y) * width + x]; }
-    const Rgb& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
-};
-
-// One flag per pixel, row-major, row 0 at the top (the layout of Image).
-struct PixelMask {
-    int width = 0, height = 0;
-    std::vector<uint8_t> on;
-    bool at(int x, int y) const { return on[size_t(y) * width + x] != 0; }
 };
 
 class Renderer {
@@ -80,12 +66,6 @@ class Renderer {
     const Bake& m_bake;
     std::unique_ptr<Impl> m_impl;
 };
-
-// Writes .exr (linear, half RGB) or .png (exposure in stops, then a filmic-free Reinhard
-// tone map and sRGB encoding) atomically (temporary name, rename). Throws Error naming the
-// path for an unknown extension or an I/O failure.
-void write_image(const std::string& path, const Image& image, double exposure = 0.0);
-Image read_exr(const std::string& path);  // throws Error
 
 // Image error against a reference (relative_rmse, mean_ratio, image_error): image_metrics.hpp.
 

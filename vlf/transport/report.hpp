@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "vlf/field/light_field.hpp"
+#include "vlf/field/field_stats.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {

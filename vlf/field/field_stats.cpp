@@ -1,4 +1,4 @@
-#include "vlf/field/light_field.hpp"
+#include "vlf/field/field_stats.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -6,17 +6,6 @@
 #include "vlf/core/parallel.hpp"
 
 namespace vlf {
-
-LightField build_light_field(const Scene& scene, const FieldParams& params) {
-    validate_raster(params.resolution, params.tile);
-    LightField field{params, DirectionSet(params.directions, params.scheme), {}};
-    field.psfs.resize(field.directions.size());
-    parallel_for(0, field.directions.size(), [&](long d) {
-        field.psfs[d] = rasterise_psf(scene, field.directions.direction(static_cast<int>(d)),
-                                      static_cast<int>(d), params.resolution, params.tile);
-    });
-    return field;
-}
 
 namespace {
 

@@ -1,26 +1,19 @@
-// light_field.hpp — the whole virtual light field: one PSF per direction of the direction
-// set (VLF §3), built in parallel, and its statistics for `propagate --dry-run`.
+// field_stats.hpp — statistics of the whole virtual light field (VLF §3: one PSF per
+// direction of the direction set) for `propagate --dry-run` and the reports: tiles,
+// fragments, covered rays and the memory a propagation would need. Every direction is
+// rasterised and dropped, so any l fits in memory. (The field a propagation uses lives in
+// Transport, transport/transport.hpp.)
 #pragma once
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "vlf/field/direction_set.hpp"
 #include "vlf/field/field_params.hpp"
 #include "vlf/field/psf.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
-
-struct LightField {
-    FieldParams params;
-    DirectionSet directions{9};
-    std::vector<Psf> psfs;  // psfs[i] is direction i
-};
-
-// Rasterises every direction (in parallel; the result does not depend on thread count).
-LightField build_light_field(const Scene& scene, const FieldParams& params);
 
 struct FieldStats {
     FieldParams params;
