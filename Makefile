@@ -1,6 +1,6 @@
 # VLF — the two set-up commands and a few conveniences.
 #   make demo   install dependencies, Release build, run the main job on the default scene
-#   make test   install dependencies, build, run every test (ctest)
+#   make test   install dependencies, check formatting, build, run every test (ctest)
 BUILD       ?= build
 ASAN_BUILD  ?= build-asan
 JOBS        ?= $(shell nproc)
@@ -9,7 +9,7 @@ DEMO_ARGS   ?= --quality preview
 OUT         ?= out
 ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli
 
-.PHONY: demo test deps build build-asan test-asan bench clean format
+.PHONY: demo test deps build build-asan test-asan bench clean format format-check
 
 deps:
 	@bash scripts/install-deps.sh
@@ -34,7 +34,7 @@ demo: build
 
 # Every test of the Release build, then the input-handling tests (scene loading, bundles,
 # the command-line contract) again under ASan+UBSan.
-test: build build-asan
+test: format-check build build-asan
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -R '$(ASAN_TESTS)'
 
@@ -48,8 +48,15 @@ test-asan: build-asan
 bench: build
 	$(BUILD)/bench/vlf_bench --benchmark_min_time=0.2
 
+# Every C++ file as .clang-format says: `make format` rewrites, `make format-check` (part
+# of `make test`) fails naming each file that differs.
+CXX_FILES = $$(git ls-files '*.cpp' '*.hpp')
 format:
-	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+	clang-format -i $(CXX_FILES)
+
+format-check: deps
+	@clang-format --dry-run --Werror $(CXX_FILES) 2>&1 | grep -E '^[^ ].*: (error|warning):' | sed -E 's/:[0-9]+:[0-9]+: .*//' | sort -u | sed 's/$$/: differs from .clang-format (run `make format`)/' ; \
+	  clang-format --dry-run --Werror $(CXX_FILES) > /dev/null 2>&1
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD)
