@@ -12,6 +12,7 @@
 
 #include "test_util.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/scene/texel_frame.hpp"
 
