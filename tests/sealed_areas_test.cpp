@@ -19,7 +19,8 @@ Scene wall_and_panel(double gap, bool facing_wall) {
         fmt::format(
             R"({{"materials": {{"w": {{"diffuse": [0.5, 0.5, 0.5], "emission": [1, 1, 1]}}}},
           "objects": [
-            {{"type": "polygon", "material": "w", "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}},
+            {{"type": "polygon", "material": "w",
+              "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}},
             {{"type": "polygon", "material": "w", "vertices": {}}}],
           "settings": {{"texel_size": 0.13}}}})",
             fmt::format(fmt::runtime(panel), gap)),

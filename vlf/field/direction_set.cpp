@@ -1,5 +1,6 @@
 // direction_set.cpp — the octahedral direction set: lattice, triangulation, solid angles and
-// the constant-time lookups (VLF §3, §5 and §6.1; DESIGN §4; derivations in docs/directions.md).
+// the constant-time lookups (VLF §3, §5 and §6.1; DESIGN §4; derivations in
+// docs/directions.md).
 #include "vlf/field/direction_set.hpp"
 
 #include <fmt/format.h>
