@@ -15,6 +15,7 @@
 #include <iterator>
 #include <string>
 
+#include "vlf/bake/scene_json.hpp"
 #include "vlf/core/checksum.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/scene/scene_loader.hpp"
