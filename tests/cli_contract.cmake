@@ -61,7 +61,10 @@ expect_err_contains("missing.json")
 
 file(WRITE "${WORK_DIR}/bad.json" "{\"materials\": {\"w\": {\"diffuse\": [0.5,0.5,0.5]}}, \"objects\": [{\"type\": \"box\", \"min\": [0,0,0], \"max\": [1,1,1], \"material\": \"glas\"}]}")
 expect_exit(2 ${PROPAGATE} "${WORK_DIR}/bad.json" --dry-run)
-expect_err_contains("bad.json: objects[0].material")
+expect_err_contains("bad.json: objects[0].material: unknown material 'glas' (known: w)")
+file(WRITE "${WORK_DIR}/typo.json" "{\"materials\": {\"w\": {\"emission\": [1,1,1]}}, \"objects\": [{\"type\": \"sphere\", \"radius\": \"big\", \"material\": \"w\"}]}")
+expect_exit(2 ${PROPAGATE} "${WORK_DIR}/typo.json" --dry-run)
+expect_err_contains("typo.json: objects[0].radius: expected a number, got \"big\"")
 
 expect_exit(0 ${PROPAGATE} ${SCENE} --dry-run --directions 33 --resolution 32 --tile 8 --report "${WORK_DIR}/r.json")
 file(READ "${WORK_DIR}/r.json" report)
@@ -141,4 +144,16 @@ expect_err_contains("is 16x16, the image 32x16")
 if(EXISTS "${WORK_DIR}/wrong-size.exr")
   message(FATAL_ERROR "a failed --reference run wrote its image")
 endif()
+
+# JSON the walkthrough reads: a camera path and a bundle's manifest, one line naming the
+# file and the JSON place.
+file(WRITE "${WORK_DIR}/path.json" "{\"frames\": 2, \"keyframes\": [{\"eye\": [278,273,-800], \"look_at\": [278,273,0], \"zoom\": 2}]}")
+expect_exit(2 ${WALKTHROUGH} ${SMALL} --size 16x16 --path "${WORK_DIR}/path.json" -o "${WORK_DIR}/frames")
+expect_err_contains("path.json: keyframes[0].zoom: unknown key (expected one of: eye, look_at, up, fov_y_deg, time)")
+file(COPY "${SMALL}/" DESTINATION "${WORK_DIR}/edited.vlf")
+file(READ "${SMALL}/manifest.json" manifest)
+string(JSON manifest SET "${manifest}" parameters cycles "\"four\"")
+file(WRITE "${WORK_DIR}/edited.vlf/manifest.json" "${manifest}")
+expect_exit(2 ${WALKTHROUGH} "${WORK_DIR}/edited.vlf" --size 16x16 -o "${WORK_DIR}/edited.png")
+expect_err_contains("edited.vlf/manifest.json: parameters.cycles: expected an integer, got \"four\"")
 message(STATUS "cli contract holds")

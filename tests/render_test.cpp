@@ -107,23 +107,39 @@ TEST(CameraPath, InterpolatesThroughKeyframes) {
 }
 
 TEST(CameraPath, BadPathsThrowNamingThePlace) {
-    auto fails = [](const char* text, const char* needle) {
+    auto fails = [](const char* text, const char* needle) -> ::testing::AssertionResult {
         try {
             camera_path_from_json(nlohmann::json::parse(text), "p.json");
         } catch (const Error& e) {
-            return std::string(e.what()).find(needle) != std::string::npos;
+            if (std::string(e.what()).find(needle) != std::string::npos)
+                return ::testing::AssertionSuccess();
+            return ::testing::AssertionFailure() << "message: " << e.what();
         }
-        return false;
+        return ::testing::AssertionFailure() << "no error";
     };
-    EXPECT_TRUE(fails(R"({"frames": 3})", "keyframes"));
-    EXPECT_TRUE(fails(R"({"keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})", "frames"));
+    EXPECT_TRUE(fails(R"({"frames": 3})", "p.json: (top level): missing required key 'keyframes'"));
+    EXPECT_TRUE(fails(R"({"keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+                      "p.json: (top level): missing required key 'frames'"));
+    EXPECT_TRUE(fails(R"({"frames": "3", "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+                      "p.json: frames: expected an integer, got \"3\""));
+    EXPECT_TRUE(fails(R"({"frames": 0, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+                      "p.json: frames: must be in [1, 1000000] (got 0)"));
+    EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": []})",
+                      "p.json: keyframes: expected at least 1 element, got an empty array"));
     EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0],"look_at":[0,0,1]}]})",
-                      "keyframes[0].eye"));
+                      "p.json: keyframes[0].eye: expected an array of 3 numbers, got an array of "
+                      "2 elements"));
     EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1],"time":1},
                                                       {"eye":[0,0,0],"look_at":[0,0,1],"time":1}]})",
-                      "strictly increase"));
+                      "p.json: keyframes[1].time: times must strictly increase (1 after 1)"));
     EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1],"zoom":2}]})",
-                      "unknown key"));
+                      "p.json: keyframes[0].zoom: unknown key (expected one of: eye, look_at, up, "
+                      "fov_y_deg, time)"));
+    EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,0]}]})",
+                      "p.json: keyframes[0]: eye and look_at coincide"));
+    EXPECT_TRUE(
+        fails(R"({"frames": 3, "fps": 30, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+              "p.json: fps: unknown key (expected one of: keyframes, frames)"));
 }
 
 TEST(CameraParse, VectorsAndSizes) {

@@ -14,6 +14,7 @@
 #include "vlf/bake/lightmaps_exr.hpp"
 #include "vlf/bake/scene_json.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/core/json_reader.hpp"
 #include "vlf/transport/transport.hpp"
 
 namespace vlf {
@@ -148,21 +149,15 @@ void write_bake(const std::string& path_in, const Bake& bake, const RaySource& r
 
 namespace {
 
-Scene read_scene_file(const fs::path& dir, const BundleErrors& errors) {
-    std::ifstream in(dir / kSceneFile, std::ios::binary);
-    json sj;
-    try {
-        sj = json::parse(in);
-    } catch (const json::exception& e) {
-        errors.fail(kSceneFile, fmt::format("not valid JSON ({})", e.what()));
-    }
-    return scene_from_json(sj, errors.bundle + ": " + kSceneFile);
+Scene read_scene_file(const BundleErrors& errors) {
+    const std::string file = errors.file(kSceneFile);
+    return scene_from_json(read_json_file(file), file);
 }
 
 // The parts after the manifest's checksums are verified; `step` names the part being read.
 void read_parts(const fs::path& dir, const BundleErrors& errors, Bake& bake, std::string& step) {
     step = kSceneFile;
-    bake.scene = read_scene_file(dir, errors);
+    bake.scene = read_scene_file(errors);
     const size_t nf = bake.scene.faces.size();
     bake.texel_offset.assign(nf + 1, 0);
     for (size_t f = 0; f < nf; ++f)
@@ -170,13 +165,15 @@ void read_parts(const fs::path& dir, const BundleErrors& errors, Bake& bake, std
 
     step = kManifestFile;
     bake.params = manifest_parameters(bake.manifest, errors);
-    check_scene_transform(bake.manifest, bake.scene, errors);
+    check_scene_frame(bake.manifest, bake.scene, errors);
     bake.directions = DirectionSet(bake.params.field.directions, bake.params.field.scheme);
 
     step = kLightmapsFile;
     const std::vector<AtlasRect> rects = manifest_rects(bake.manifest, bake.scene, errors);
-    bake.lightmap_radiance =
-        read_lightmaps_exr((dir / kLightmapsFile).string(), rects, bake.texel_offset, errors);
+    int atlas_width = 0, atlas_height = 0;
+    manifest_atlas_size(bake.manifest, errors, atlas_width, atlas_height);
+    bake.lightmap_radiance = read_lightmaps_exr((dir / kLightmapsFile).string(), rects, atlas_width,
+                                                atlas_height, bake.texel_offset, errors);
 
     step = kLightfieldFile;
     LightfieldLayout layout{bake.params.field.directions, bake.params.field.resolution,
@@ -185,7 +182,7 @@ void read_parts(const fs::path& dir, const BundleErrors& errors, Bake& bake, std
         layout.stored[f] =
             bake.params.store_all_rays || bake.scene.material_of(bake.scene.faces[f]).is_specular();
     bake.rays = read_lightfield_exr((dir / kLightfieldFile).string(), layout, errors);
-    check_samples(bake.manifest, bake.rays.face.size(), errors);
+    check_lightfield(bake.manifest, bake.params.field, bake.rays.face.size(), errors);
 }
 
 }  // namespace

@@ -54,6 +54,7 @@ void write_lightmaps_exr(const std::string& file, const Atlas& atlas,
 }
 
 std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<AtlasRect>& rects,
+                                    int atlas_width, int atlas_height,
                                     const std::vector<size_t>& texel_offset,
                                     const BundleErrors& errors) {
     const char* part = kLightmapsFile;
@@ -62,6 +63,9 @@ std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<A
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
     if (dw.min.x != 0 || dw.min.y != 0 || w <= 0 || h <= 0)
         errors.mismatch(part, "unexpected data window");
+    if (w != atlas_width || h != atlas_height)
+        errors.mismatch(part, fmt::format("the atlas is {}x{}, the manifest says {}x{}", w, h,
+                                          atlas_width, atlas_height));
     for (const char* n : kChannels)
         if (!in.header().channels().findChannel(n))
             errors.fail(part, fmt::format("channel {} is missing", n));

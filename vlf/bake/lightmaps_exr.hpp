@@ -17,9 +17,10 @@ namespace vlf {
 void write_lightmaps_exr(const std::string& file, const Atlas& atlas,
                          const std::vector<Rgb>& radiance, const std::vector<size_t>& texel_offset);
 
-// Reads the atlas back; `rects` (from the manifest) must lie inside the image. Defects are
-// reported through `errors` as part lightmaps.exr.
+// Reads the atlas back; `rects` (from the manifest) must lie inside the `atlas_width` x
+// `atlas_height` image. Defects are reported through `errors` as part lightmaps.exr.
 std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<AtlasRect>& rects,
+                                    int atlas_width, int atlas_height,
                                     const std::vector<size_t>& texel_offset,
                                     const BundleErrors& errors);
 

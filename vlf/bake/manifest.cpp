@@ -4,10 +4,10 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "vlf/core/checksum.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/core/json_reader.hpp"
 
 namespace vlf {
 
@@ -18,11 +18,6 @@ namespace {
 
 json vec_json(const Vec3& v) {
     return json::array({v.x, v.y, v.z});
-}
-
-Vec3 vec_from(const json& j) {
-    if (!j.is_array() || j.size() != 3) throw Error("expected an array of 3 numbers");
-    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
 }  // namespace
@@ -69,28 +64,35 @@ void record_checksums(json& manifest, const std::string& dir) {
 
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+JsonReader reader(const json& manifest, const BundleErrors& errors) {
+    return JsonReader(manifest, errors.file(kManifestFile));
+}
+
+}  // namespace
+
 json read_manifest(const std::string& dir, const BundleErrors& errors) {
     const fs::path file = fs::path(dir) / kManifestFile;
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) errors.fail(kManifestFile, "is missing");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) errors.fail(kManifestFile, "cannot be opened");
-    json m;
-    try {
-        m = json::parse(in);
-    } catch (const json::exception& e) {
-        errors.fail(kManifestFile, fmt::format("not valid JSON ({})", e.what()));
-    }
-    if (!m.is_object() || !m.contains("format") || !m["format"].is_string() ||
-        m["format"].get<std::string>() != kBakeFormat)
-        errors.fail(kManifestFile, fmt::format("not a {} manifest", kBakeFormat));
-    if (!m.contains("version") || !m["version"].is_number_integer())
-        errors.fail(kManifestFile, "format version is missing");
-    const auto version = m["version"].get<int64_t>();
-    if (version != kBakeVersion)
-        errors.fail(kManifestFile,
-                    fmt::format("format version {} is not supported (this build reads {})", version,
-                                kBakeVersion));
+    const json m = read_json_file(errors.file(kManifestFile));
+    const JsonReader r = reader(m, errors);
+    r.expect_object();
+    // Format and version first: another version may well have other keys.
+    if (!r.has("format"))
+        r.fail(fmt::format("not a {} manifest (it has no \"format\")", kBakeFormat));
+    const JsonReader format = r.required("format");
+    if (format.string() != kBakeFormat)
+        format.fail(fmt::format("not a {} manifest (format {})", kBakeFormat,
+                                describe_json(format.json())));
+    const JsonReader version = r.required("version");
+    if (const int64_t v = version.integer64(); v != kBakeVersion)
+        version.fail(fmt::format("format version {} is not supported (this build reads {})", v,
+                                 kBakeVersion));
+    r.only_keys({"format", "version", "parameters", "scene_transform", "units", "ledger",
+                 "timings_s", "memory_bytes", "files", "lightmaps", "lightmap_atlas",
+                 "lightfield"});
     return m;
 }
 
@@ -118,86 +120,99 @@ void verify_file(const fs::path& file, const std::string& name, uint64_t want_by
                               "): the file is corrupted");
 }
 
+bool is_sha256_hex(const std::string& s) {
+    return s.size() == 64 && s.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
 }  // namespace
 
 void verify_files(const json& manifest, const std::string& dir, const BundleErrors& errors) {
-    if (!manifest.contains("files") || !manifest["files"].is_object())
-        errors.fail(kManifestFile, "files: missing");
-    const json& files = manifest["files"];
-    for (const char* required : {kSceneFile, kLightmapsFile, kLightfieldFile})
-        if (!files.contains(required))
-            errors.fail(kManifestFile, fmt::format("files: {} is not listed", required));
-    for (const auto& [name, entry] : files.items()) {
-        if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
-            errors.fail(kManifestFile, fmt::format("files: '{}' is not a file name", name));
-        uint64_t want_bytes = 0;
-        std::string want_sha;
-        try {
-            want_bytes = entry.at("bytes").get<uint64_t>();
-            want_sha = entry.at("sha256").get<std::string>();
-        } catch (const json::exception& e) {
-            errors.fail(kManifestFile, fmt::format("files.{}: {}", name, e.what()));
-        }
-        verify_file(fs::path(dir) / name, name, want_bytes, want_sha, errors);
+    const JsonReader files = reader(manifest, errors).required("files");
+    files.only_keys({kSceneFile, kLightmapsFile, kLightfieldFile});
+    for (const char* name : {kSceneFile, kLightmapsFile, kLightfieldFile}) files.required(name);
+    for (const auto& [name, entry] : files.members()) {  // in the manifest's (sorted) order
+        entry.only_keys({"bytes", "sha256"});
+        const uint64_t bytes = entry.required("bytes").unsigned64();
+        const JsonReader sha = entry.required("sha256");
+        if (!is_sha256_hex(sha.string()))
+            sha.fail(fmt::format("expected 64 lower-case hex digits, got {}",
+                                 describe_json(sha.json())));
+        verify_file(fs::path(dir) / name, name, bytes, sha.string(), errors);
     }
 }
 
 PropagateParams manifest_parameters(const json& manifest, const BundleErrors& errors) {
-    if (!manifest.contains("parameters")) errors.fail(kManifestFile, "parameters: missing");
-    try {
-        return propagate_params_from_json(manifest["parameters"]);
-    } catch (const Error& e) {
-        errors.fail(kManifestFile, e.what());
-    }
+    return propagate_params_from_json(reader(manifest, errors).required("parameters"));
 }
 
-void check_scene_transform(const json& manifest, const Scene& scene, const BundleErrors& errors) {
-    try {
-        const json& st = manifest.at("scene_transform");
-        const Vec3 c = vec_from(st.at("center"));
-        const double s = st.at("scale").get<double>();
-        if (c != scene.normalisation.center || s != scene.normalisation.scale)
-            errors.mismatch(kSceneFile, "scene_transform differs from the scene's normalisation");
-    } catch (const json::exception& e) {
-        errors.fail(kManifestFile, fmt::format("scene_transform: {}", e.what()));
-    }
+void check_scene_frame(const json& manifest, const Scene& scene, const BundleErrors& errors) {
+    const JsonReader r = reader(manifest, errors);
+    const JsonReader st = r.required("scene_transform");
+    st.only_keys({"center", "scale"});
+    const Vec3 c = st.required("center").vec3();
+    const double s = st.required("scale").number();
+    if (c != scene.normalisation.center || s != scene.normalisation.scale)
+        errors.mismatch(kSceneFile, "scene_transform differs from the scene's normalisation");
+    const std::string units = r.required("units").string();
+    if (units != scene.units)
+        errors.mismatch(kSceneFile,
+                        fmt::format("units '{}', the manifest says '{}'", scene.units, units));
 }
+
+namespace {
+
+AtlasRect read_rect(const JsonReader& r) {
+    r.only_keys({"face", "x", "y", "width", "height"});
+    return {r.required("face").integer(), r.required("x").integer(), r.required("y").integer(),
+            r.required("width").integer(), r.required("height").integer()};
+}
+
+}  // namespace
 
 std::vector<AtlasRect> manifest_rects(const json& manifest, const Scene& scene,
                                       const BundleErrors& errors) {
-    if (!manifest.contains("lightmaps") || !manifest["lightmaps"].is_array())
-        errors.fail(kManifestFile, "lightmaps: missing");
-    const json& list = manifest["lightmaps"];
+    const std::vector<JsonReader> list = reader(manifest, errors).required("lightmaps").elements();
     if (list.size() != scene.faces.size())
         errors.mismatch(kLightmapsFile, fmt::format("{} atlas rectangles for {} faces", list.size(),
                                                     scene.faces.size()));
     std::vector<AtlasRect> rects(list.size());
-    try {
-        for (size_t k = 0; k < list.size(); ++k) {
-            const json& e = list[k];
-            AtlasRect a{e.at("face").get<int>(), e.at("x").get<int>(), e.at("y").get<int>(),
-                        e.at("width").get<int>(), e.at("height").get<int>()};
-            if (a.face != static_cast<int>(k))
-                errors.mismatch(kLightmapsFile, fmt::format("lightmaps[{}] is face {}", k, a.face));
-            const TexelFrame& t = scene.faces[k].texels;
-            if (a.width != t.width || a.height != t.height)
-                errors.mismatch(kLightmapsFile,
-                                fmt::format("face {}: atlas rectangle {}x{}, texel grid {}x{}", k,
-                                            a.width, a.height, t.width, t.height));
-            rects[k] = a;
-        }
-    } catch (const json::exception& e) {
-        errors.fail(kManifestFile, fmt::format("lightmaps: {}", e.what()));
+    for (size_t k = 0; k < list.size(); ++k) {
+        const AtlasRect a = read_rect(list[k]);
+        if (a.face != static_cast<int>(k))
+            errors.mismatch(kLightmapsFile, fmt::format("lightmaps[{}] is face {}", k, a.face));
+        const TexelFrame& t = scene.faces[k].texels;
+        if (a.width != t.width || a.height != t.height)
+            errors.mismatch(kLightmapsFile,
+                            fmt::format("face {}: atlas rectangle {}x{}, texel grid {}x{}", k,
+                                        a.width, a.height, t.width, t.height));
+        rects[k] = a;
     }
     return rects;
 }
 
-void check_samples(const json& manifest, uint64_t samples, const BundleErrors& errors) {
-    if (!manifest.contains("lightfield") || !manifest["lightfield"].contains("samples")) return;
-    const json& s = manifest["lightfield"]["samples"];
-    if (!s.is_number_unsigned() || s.get<uint64_t>() != samples)
+void manifest_atlas_size(const json& manifest, const BundleErrors& errors, int& width,
+                         int& height) {
+    const JsonReader atlas = reader(manifest, errors).required("lightmap_atlas");
+    atlas.only_keys({"width", "height"});
+    width = atlas.required("width").integer(1);
+    height = atlas.required("height").integer(1);
+}
+
+void check_lightfield(const json& manifest, const FieldParams& field, uint64_t samples,
+                      const BundleErrors& errors) {
+    const JsonReader lf = reader(manifest, errors).required("lightfield");
+    lf.only_keys({"directions", "resolution", "tile", "samples"});
+    const std::pair<const char*, int> counts[] = {
+        {"directions", field.directions}, {"resolution", field.resolution}, {"tile", field.tile}};
+    for (const auto& [key, want] : counts) {
+        const JsonReader v = lf.required(key);
+        if (v.integer() != want)
+            v.fail(fmt::format("{}, the parameters say {}", v.integer(), want));
+    }
+    const uint64_t listed = lf.required("samples").unsigned64();
+    if (listed != samples)
         errors.mismatch(kLightfieldFile,
-                        fmt::format("{} samples, the manifest says {}", samples, s.dump()));
+                        fmt::format("{} samples, the manifest says {}", samples, listed));
 }
 
 }  // namespace vlf

@@ -34,20 +34,31 @@ void record_layout(nlohmann::json& manifest, const Atlas& atlas, const FieldPara
 void record_checksums(nlohmann::json& manifest, const std::string& dir);
 
 // --- reading ---
+// A defect of the manifest's JSON (a missing or unknown key, a wrong type) throws Error
+// "<bundle>/manifest.json: <json.path>: <problem>" (core/json_reader.hpp); a defect of the
+// files or a disagreement between the manifest and the files throws Error
+// "<bundle>: <part>: <problem>" through `errors`.
 
-// manifest.json of the bundle directory `dir`: present, JSON, this format and version.
+// manifest.json of the bundle directory `dir`: present, JSON, this format and version,
+// no unknown keys.
 nlohmann::json read_manifest(const std::string& dir, const BundleErrors& errors);
-// Every listed file is present with the listed size and SHA-256.
+// "files": exactly scene.json, lightmaps.exr and lightfield.exr, each present with the
+// listed size and SHA-256.
 void verify_files(const nlohmann::json& manifest, const std::string& dir,
                   const BundleErrors& errors);
 PropagateParams manifest_parameters(const nlohmann::json& manifest, const BundleErrors& errors);
-// "scene_transform" equals the scene's normalisation.
-void check_scene_transform(const nlohmann::json& manifest, const Scene& scene,
-                           const BundleErrors& errors);
-// The atlas rectangles, one per face, matching the faces' texel grids.
+// "scene_transform" and "units" equal the scene's normalisation and units.
+void check_scene_frame(const nlohmann::json& manifest, const Scene& scene,
+                       const BundleErrors& errors);
+// "lightmaps": the atlas rectangles, one per face, matching the faces' texel grids.
 std::vector<AtlasRect> manifest_rects(const nlohmann::json& manifest, const Scene& scene,
                                       const BundleErrors& errors);
-// "lightfield.samples" equals the number of samples read.
-void check_samples(const nlohmann::json& manifest, uint64_t samples, const BundleErrors& errors);
+// "lightmap_atlas": the size of the atlas image.
+void manifest_atlas_size(const nlohmann::json& manifest, const BundleErrors& errors, int& width,
+                         int& height);
+// "lightfield": directions, resolution and tile equal the parameters; samples equals the
+// number of samples read.
+void check_lightfield(const nlohmann::json& manifest, const FieldParams& field, uint64_t samples,
+                      const BundleErrors& errors);
 
 }  // namespace vlf

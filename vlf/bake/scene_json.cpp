@@ -3,9 +3,7 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
-
-#include "vlf/core/error.hpp"
+#include "vlf/core/json_reader.hpp"
 
 namespace vlf {
 
@@ -82,128 +80,102 @@ json scene_to_json(const Scene& scene) {
 
 namespace {
 
-Vec3 vec_from(const json& j) {
-    if (!j.is_array() || j.size() != 3) throw Error("expected an array of 3 numbers");
-    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+Material read_material(const JsonReader& r) {
+    r.only_keys({"name", "diffuse", "specular", "emission"});
+    Material m;
+    m.name = r.required("name").string();
+    m.diffuse = r.required("diffuse").vec3();
+    m.specular = r.required("specular").vec3();
+    m.emission = r.required("emission").vec3();
+    return m;
 }
 
-Material read_material(const json& m) {
-    Material mat;
-    mat.name = m.at("name").get<std::string>();
-    mat.diffuse = vec_from(m.at("diffuse"));
-    mat.specular = vec_from(m.at("specular"));
-    mat.emission = vec_from(m.at("emission"));
-    return mat;
+SceneObject read_object(const JsonReader& r) {
+    r.only_keys({"name", "type", "first_face", "face_count"});
+    SceneObject o;
+    o.name = r.required("name").string();
+    o.type = r.required("type").string();
+    o.first_face = r.required("first_face").integer(0);
+    o.face_count = r.required("face_count").integer(0);
+    return o;
 }
 
-SceneObject read_object(const json& o) {
-    SceneObject obj;
-    obj.name = o.at("name").get<std::string>();
-    obj.type = o.at("type").get<std::string>();
-    obj.first_face = o.at("first_face").get<int>();
-    obj.face_count = o.at("face_count").get<int>();
-    return obj;
+TexelFrame read_texels(const JsonReader& r) {
+    r.only_keys({"origin", "axis_u", "axis_v", "size", "width", "height"});
+    TexelFrame t;
+    t.origin = r.required("origin").vec3();
+    t.axis_u = r.required("axis_u").vec3();
+    t.axis_v = r.required("axis_v").vec3();
+    t.size = r.required("size").positive();
+    t.width = r.required("width").integer(1, kMaxTexelsPerSide);
+    t.height = r.required("height").integer(1, kMaxTexelsPerSide);
+    return t;
 }
 
-Face read_face(const json& fj, size_t k, const Scene& s) {
-    const int nm = static_cast<int>(s.materials.size()), no = static_cast<int>(s.objects.size());
+Face read_face(const JsonReader& r, size_t index, const Scene& s) {
+    r.only_keys({"id", "object", "material", "vertices", "normal", "plane_offset", "area", "texels",
+                 "texel_area"});
     Face f;
-    f.id = fj.at("id").get<int>();
-    if (f.id != static_cast<int>(k)) throw Error(fmt::format("id {} is not its index", f.id));
-    f.object = fj.at("object").get<int>();
-    f.material = fj.at("material").get<int>();
-    if (f.object < 0 || f.object >= no) throw Error("object index out of range");
-    if (f.material < 0 || f.material >= nm) throw Error("material index out of range");
-    for (const json& v : fj.at("vertices")) f.vertices.push_back(vec_from(v));
-    if (f.vertices.size() < 3) throw Error("fewer than 3 vertices");
-    f.normal = vec_from(fj.at("normal"));
-    f.plane_offset = fj.at("plane_offset").get<double>();
-    f.area = fj.at("area").get<double>();
-    const json& t = fj.at("texels");
-    f.texels.origin = vec_from(t.at("origin"));
-    f.texels.axis_u = vec_from(t.at("axis_u"));
-    f.texels.axis_v = vec_from(t.at("axis_v"));
-    f.texels.size = t.at("size").get<double>();
-    f.texels.width = t.at("width").get<int>();
-    f.texels.height = t.at("height").get<int>();
-    if (f.texels.width < 1 || f.texels.height < 1 || f.texels.width > kMaxTexelsPerSide ||
-        f.texels.height > kMaxTexelsPerSide || !(f.texels.size > 0))
-        throw Error("invalid texel grid");
-    f.texel_area = fj.at("texel_area").get<std::vector<double>>();
+    const JsonReader id = r.required("id");
+    f.id = id.integer(0);
+    if (f.id != static_cast<int>(index)) id.fail(fmt::format("id {} is not its index", f.id));
+    f.object = r.required("object").integer(0, static_cast<int>(s.objects.size()) - 1);
+    f.material = r.required("material").integer(0, static_cast<int>(s.materials.size()) - 1);
+    for (const JsonReader& v : r.required("vertices").elements(3)) f.vertices.push_back(v.vec3());
+    f.normal = r.required("normal").vec3();
+    f.plane_offset = r.required("plane_offset").number();
+    f.area = r.required("area").number();
+    f.texels = read_texels(r.required("texels"));
+    const JsonReader area = r.required("texel_area");
+    f.texel_area = area.numbers();
     if (f.texel_area.size() != size_t(f.texels.width) * size_t(f.texels.height))
-        throw Error(fmt::format("texel_area has {} entries for a {}x{} grid", f.texel_area.size(),
-                                f.texels.width, f.texels.height));
+        area.fail(fmt::format("{} entries for a {}x{} texel grid", f.texel_area.size(),
+                              f.texels.width, f.texels.height));
     return f;
 }
 
-Camera read_camera(const json& c) {
-    Camera cam;
-    cam.name = c.at("name").get<std::string>();
-    cam.eye = vec_from(c.at("eye"));
-    cam.look_at = vec_from(c.at("look_at"));
-    cam.up = vec_from(c.at("up"));
-    cam.fov_y_deg = c.at("fov_y_deg").get<double>();
-    return cam;
-}
-
-// Everything but the faces, objects and cameras; `where` names the JSON place being read.
-void read_frame(const json& j, Scene& s, std::string& where) {
-    where = "units";
-    s.units = j.at("units").get<std::string>();
-    where = "normalisation";
-    s.normalisation.center = vec_from(j.at("normalisation").at("center"));
-    s.normalisation.scale = j.at("normalisation").at("scale").get<double>();
-    if (!(s.normalisation.scale > 0) || !std::isfinite(s.normalisation.scale))
-        throw Error("scale must be positive");
-    where = "user_bounds";
-    s.user_bounds_min = vec_from(j.at("user_bounds_min"));
-    s.user_bounds_max = vec_from(j.at("user_bounds_max"));
-    where = "texel_size_user";
-    s.texel_size_user = j.at("texel_size_user").get<double>();
+Camera read_camera(const JsonReader& r) {
+    r.only_keys({"name", "eye", "look_at", "up", "fov_y_deg"});
+    Camera c;
+    c.name = r.required("name").string();
+    c.eye = r.required("eye").vec3();
+    c.look_at = r.required("look_at").vec3();
+    c.up = r.required("up").vec3();
+    c.fov_y_deg = r.required("fov_y_deg").number();
+    return c;
 }
 
 }  // namespace
 
-Scene scene_from_json(const json& j, const std::string& name) {
+Scene scene_from_json(const json& j, const std::string& file) {
+    const JsonReader r(j, file);
+    r.only_keys({"units", "normalisation", "user_bounds_min", "user_bounds_max", "texel_size_user",
+                 "materials", "objects", "faces", "cameras"});
     Scene s;
-    s.source = name;
-    std::string where;  // the JSON place being read, for messages
-    try {
-        read_frame(j, s, where);
-        const json& mats = j.at("materials");
-        for (size_t k = 0; k < mats.size(); ++k) {
-            where = fmt::format("materials[{}]", k);
-            s.materials.push_back(read_material(mats.at(k)));
-        }
-        const json& objs = j.at("objects");
-        for (size_t k = 0; k < objs.size(); ++k) {
-            where = fmt::format("objects[{}]", k);
-            s.objects.push_back(read_object(objs.at(k)));
-        }
-        const json& faces = j.at("faces");
-        for (size_t k = 0; k < faces.size(); ++k) {
-            where = fmt::format("faces[{}]", k);
-            s.faces.push_back(read_face(faces.at(k), k, s));
-        }
-        for (size_t k = 0; k < s.objects.size(); ++k) {
-            const SceneObject& o = s.objects[k];
-            where = fmt::format("objects[{}]", k);
-            if (o.first_face < 0 || o.face_count < 0 ||
-                size_t(o.first_face) + size_t(o.face_count) > s.faces.size())
-                throw Error("face range out of range");
-        }
-        const json& cams = j.at("cameras");
-        for (size_t k = 0; k < cams.size(); ++k) {
-            where = fmt::format("cameras[{}]", k);
-            s.cameras.push_back(read_camera(cams.at(k)));
-        }
-        where.clear();
-        if (s.faces.empty()) throw Error("no faces");
-    } catch (const json::exception& e) {
-        throw Error(fmt::format("{}: {}{}{}", name, where, where.empty() ? "" : ": ", e.what()));
-    } catch (const Error& e) {
-        throw Error(fmt::format("{}: {}{}{}", name, where, where.empty() ? "" : ": ", e.what()));
+    s.source = file;
+    s.units = r.required("units").string();
+    const JsonReader norm = r.required("normalisation");
+    norm.only_keys({"center", "scale"});
+    s.normalisation.center = norm.required("center").vec3();
+    s.normalisation.scale = norm.required("scale").positive();
+    s.user_bounds_min = r.required("user_bounds_min").vec3();
+    s.user_bounds_max = r.required("user_bounds_max").vec3();
+    s.texel_size_user = r.required("texel_size_user").number();
+    for (const JsonReader& m : r.required("materials").elements())
+        s.materials.push_back(read_material(m));
+    const std::vector<JsonReader> objects = r.required("objects").elements();
+    for (const JsonReader& o : objects) s.objects.push_back(read_object(o));
+    const std::vector<JsonReader> faces = r.required("faces").elements(1);
+    for (size_t k = 0; k < faces.size(); ++k) s.faces.push_back(read_face(faces[k], k, s));
+    for (size_t k = 0; k < s.objects.size(); ++k) {
+        const SceneObject& o = s.objects[k];
+        if (size_t(o.first_face) + size_t(o.face_count) > s.faces.size())
+            objects[k].fail(fmt::format("faces {} to {} are out of range (the scene has {})",
+                                        o.first_face, o.first_face + o.face_count - 1,
+                                        s.faces.size()));
     }
+    for (const JsonReader& c : r.required("cameras").elements())
+        s.cameras.push_back(read_camera(c));
     return s;
 }
 

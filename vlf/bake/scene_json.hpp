@@ -13,7 +13,8 @@ namespace vlf {
 
 nlohmann::json scene_to_json(const Scene& scene);
 
-// Reads what scene_to_json wrote; throws Error naming `name` and the JSON place.
-Scene scene_from_json(const nlohmann::json& j, const std::string& name);
+// Reads what scene_to_json wrote; every key is checked and unknown keys are refused.
+// Throws Error "<file>: <json.path>: <problem>" (core/json_reader.hpp).
+Scene scene_from_json(const nlohmann::json& j, const std::string& file);
 
 }  // namespace vlf
