@@ -433,7 +433,21 @@ TEST(SceneBadInput, MalformedJsonNamesLineAndColumn) {
 
 TEST(SceneBadInput, UnknownTopLevelKey) {
     expect_error(R"({"materials": {}, "objects": [], "colour": 1})",
-                 "bad.json: colour: unknown key");
+                 "bad.json: colour: unknown key (expected one of: $schema, materials, objects, "
+                 "cameras, settings)");
+}
+
+// "$schema" (docs/scene.schema.json, for editors) is accepted and ignored; nothing else is.
+TEST(SceneSchemaKey, IsAcceptedAndIgnored) {
+    const std::string scene = R"({"$schema": "../docs/scene.schema.json", "materials": )" +
+                              kMaterials + R"(, "objects": [)" + kLamp + "]}";
+    EXPECT_EQ(load_scene_from_string(scene, "s.json", kScenes).faces.size(), 1u);
+    expect_error(
+        R"({"$schema": 2, "materials": )" + kMaterials + R"(, "objects": [)" + kLamp + "]}",
+        "bad.json: [\"$schema\"]: expected a string, got 2");
+    expect_error(with_objects(kLamp + R"(, {"$schema": "x", "type": "box", "min": [0,0,0],
+                                            "max": [1,1,1], "material": "white"})"),
+                 "bad.json: objects[1][\"$schema\"]: unknown key for a box");
 }
 
 TEST(SceneBadInput, UnknownObjectKey) {

@@ -11,10 +11,11 @@
 //
 // Every problem is a SceneError "<file>: <json.path>: <message>".
 //
-// Keys (anything else is an error; "?" = optional, with its default):
+// Keys (anything else is an error; "?" = optional, with its default). docs/scene.schema.json
+// says the same as a JSON Schema; keep the two in step (tests/scene_schema_test.py).
 //   top level  materials {name: material}, objects [object, ...] (non-empty),
 //              cameras? [camera, ...], settings? {texel_size? (> 0, user units),
-//              units? (string)}
+//              units? (string)}, $schema? (string: the schema, for editors; ignored)
 //   material   diffuse? [r,g,b] = 0, specular? [r,g,b] = 0 (each in [0,1],
 //              diffuse + specular <= 1 per channel), emission? [r,g,b] = 0 (>= 0, W m^-2 sr^-1)
 //   object     type (polygon|box|sphere|cylinder|mesh), material, name? = "<type>#<index>",
@@ -316,7 +317,8 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
     const Reader r(root, file);
     SceneDescription d;
     r.expect_object();
-    r.only_keys({"materials", "objects", "cameras", "settings"});
+    r.only_keys({"$schema", "materials", "objects", "cameras", "settings"});
+    if (const auto schema = r.optional("$schema")) schema->string();  // for editors; ignored
     d.materials = validate_materials(r.required("materials"));
     std::vector<std::string> material_names;
     for (const Material& m : d.materials) material_names.push_back(m.name);
