@@ -106,6 +106,52 @@ TEST(CameraPath, InterpolatesThroughKeyframes) {
     EXPECT_LT(p.at(0.5).eye.x, 0.7);
 }
 
+// Up between two keyframes rolled 170 degrees apart about the view direction: slerp of the
+// orientations keeps it a unit vector orthogonal to the view, turning at constant speed
+// through the shorter arc. A normalised linear blend of the up vectors (the blend itself
+// shrinks to 9% of unit length mid-way) has turned less than 5 degrees a quarter of the
+// way, where slerp has turned 42.5, and keeps a keyframe's up that is not orthogonal to
+// a tilted view.
+TEST(CameraPath, UpRotatesBySlerpOfTheOrientation) {
+    const double roll = glm::radians(170.0);
+    CameraPath p;
+    p.frames = 21;
+    CameraKeyframe a, b;
+    a.camera.eye = b.camera.eye = Vec3(1, 2, 3);
+    a.camera.look_at = b.camera.look_at = Vec3(1, 2, 13);  // looking along +z
+    a.camera.up = Vec3(0, 1, 0);
+    b.camera.up = Vec3(-std::sin(roll), std::cos(roll), 0);
+    b.time = 1.0;
+    p.keyframes = {a, b};
+    const Vec3 view(0, 0, 1);
+    double previous = -1.0;
+    for (int k = 0; k < p.frames; ++k) {
+        const double s = double(k) / (p.frames - 1);
+        const Camera c = p.frame(k);
+        EXPECT_NEAR(glm::length(c.up), 1.0, 1e-12) << "s = " << s;
+        EXPECT_NEAR(glm::dot(c.up, view), 0.0, 1e-12) << "s = " << s;
+        const double angle =
+            std::atan2(glm::dot(glm::cross(a.camera.up, c.up), view), glm::dot(a.camera.up, c.up));
+        EXPECT_NEAR(angle, s * roll, 1e-9) << "s = " << s;  // uniform, hence monotonic
+        EXPECT_GT(angle, previous) << "s = " << s;
+        previous = angle;
+    }
+    // Keyframes whose up is not orthogonal to their (downward) view: the interpolated up is.
+    for (CameraKeyframe* f : {&a, &b}) {
+        f->camera.look_at = f->camera.eye + Vec3(0, -1, 1);
+        f->camera.up = Vec3(0, 1, 0);
+    }
+    b.camera.eye.x += 1;
+    b.camera.look_at.x += 1;
+    p.keyframes = {a, b};
+    for (double t : {0.25, 0.5, 0.75}) {
+        const Camera c = p.at(t);
+        EXPECT_NEAR(glm::length(c.up), 1.0, 1e-12);
+        EXPECT_NEAR(glm::dot(c.up, glm::normalize(c.look_at - c.eye)), 0.0, 1e-12);
+        EXPECT_GT(c.up.y, 0.7);  // still up, tilted with the view
+    }
+}
+
 TEST(CameraPath, BadPathsThrowNamingThePlace) {
     auto fails = [](const char* text, const char* needle) -> ::testing::AssertionResult {
         try {

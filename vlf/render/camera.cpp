@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/quaternion.hpp>
 #include <sstream>
 
 #include "vlf/core/error.hpp"
@@ -16,6 +17,23 @@ namespace {
 
 bool finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The camera's orientation: the rotation taking +z to its view direction and +y to its
+// up vector made orthogonal to the view.
+glm::dquat orientation(const Camera& c) {
+    const Vec3 forward = glm::normalize(c.look_at - c.eye);
+    const Vec3 right = glm::normalize(glm::cross(c.up, forward));
+    return glm::quat_cast(Mat3(right, glm::cross(forward, right), forward));
+}
+
+// `up` made a unit vector orthogonal to the view direction `view`; `fallback` (the
+// interpolated view direction) stands in for an up parallel to the view.
+Vec3 up_for(const Vec3& view, const Vec3& up, const Vec3& fallback) {
+    const Vec3 f = glm::normalize(view);
+    Vec3 u = up - glm::dot(up, f) * f;
+    if (glm::length(u) < 1e-9) u = fallback - glm::dot(fallback, f) * f;
+    return glm::normalize(u);
 }
 
 }  // namespace
@@ -85,8 +103,10 @@ Camera CameraPath::at(double t) const {
     c.name = fmt::format("path@{}", t);
     c.eye = hermite([](const CameraKeyframe& f) { return f.camera.eye; });
     c.look_at = hermite([](const CameraKeyframe& f) { return f.camera.look_at; });
-    const Vec3 up = (1 - s) * a.camera.up + s * b.camera.up;
-    c.up = glm::length(up) > 0 ? glm::normalize(up) : a.camera.up;
+    // Orientation by spherical interpolation (shortest arc, constant angular speed): a
+    // linear blend of the up vectors speeds up, shrinks and can flip when they are far apart.
+    const glm::dquat q = glm::slerp(orientation(a.camera), orientation(b.camera), s);
+    c.up = up_for(c.look_at - c.eye, q * Vec3(0, 1, 0), q * Vec3(0, 0, 1));
     c.fov_y_deg = (1 - s) * a.camera.fov_y_deg + s * b.camera.fov_y_deg;
     return c;
 }

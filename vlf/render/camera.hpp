@@ -56,7 +56,9 @@ struct CameraPath {
     int frames = 1;
 
     // The camera at time t (clamped to the keyframes' span): eye and look_at by a
-    // Catmull-Rom spline (non-uniform times, Hermite form), up and fov linearly.
+    // Catmull-Rom spline (non-uniform times, Hermite form); up from the spherical linear
+    // interpolation (slerp) of the keyframes' orientations, made orthogonal to the
+    // interpolated view direction (a unit vector); fov linearly.
     Camera at(double t) const;
     // Frame k of `frames` (k = 0 .. frames-1).
     Camera frame(int k) const;
