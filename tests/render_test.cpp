@@ -188,21 +188,6 @@ TEST(CameraPath, BadPathsThrowNamingThePlace) {
               "p.json: fps: unknown key (expected one of: keyframes, frames)"));
 }
 
-TEST(CameraParse, VectorsAndSizes) {
-    EXPECT_EQ(parse_vec3("1,-2.5,3e2", "--eye"), Vec3(1, -2.5, 300));
-    EXPECT_THROW(parse_vec3("1,2", "--eye"), ParameterError);
-    EXPECT_THROW(parse_vec3("1,2,x", "--eye"), ParameterError);
-    EXPECT_THROW(parse_vec3("1,2,3,4", "--eye"), ParameterError);
-    EXPECT_THROW(parse_vec3("1,nan,3", "--eye"), ParameterError);
-    int w = 0, h = 0;
-    parse_size("640x480", "--size", w, h);
-    EXPECT_EQ(w, 640);
-    EXPECT_EQ(h, 480);
-    EXPECT_THROW(parse_size("640", "--size", w, h), ParameterError);
-    EXPECT_THROW(parse_size("0x480", "--size", w, h), ParameterError);
-    EXPECT_THROW(parse_size("-3x4", "--size", w, h), ParameterError);
-}
-
 // ---------------------------------------------------------------------------------------
 // Image I/O
 

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
-#include <sstream>
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/json_reader.hpp"
@@ -158,39 +157,6 @@ CameraPath camera_path_from_json(const nlohmann::json& j, const std::string& nam
 
 CameraPath load_camera_path(const std::string& path) {
     return camera_path_from_json(read_json_file<nlohmann::json>(path), path);
-}
-
-Vec3 parse_vec3(const std::string& text, const std::string& option) {
-    Vec3 v(0.0);
-    std::string s = text;
-    std::replace(s.begin(), s.end(), ',', ' ');
-    std::istringstream in(s);
-    int count = 0;
-    double x;
-    while (in >> x) {
-        if (count < 3) v[count] = x;
-        ++count;
-    }
-    in.clear();
-    std::string rest;
-    if (in >> rest || count != 3 || std::count(text.begin(), text.end(), ',') != 2 || !finite(v))
-        throw ParameterError(
-            fmt::format("{}: '{}' is not a vector x,y,z of three finite numbers", option, text));
-    return v;
-}
-
-void parse_size(const std::string& text, const std::string& option, int& width, int& height) {
-    const size_t x = text.find_first_of("xX");
-    auto number = [&](const std::string& s, int& out) {
-        if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos)
-            return false;
-        out = std::stoi(s);
-        return out >= 1 && out <= 16384;
-    };
-    if (x == std::string::npos || !number(text.substr(0, x), width) ||
-        !number(text.substr(x + 1), height))
-        throw ParameterError(
-            fmt::format("{}: '{}' is not a size WxH (integers in [1, 16384])", option, text));
 }
 
 }  // namespace vlf

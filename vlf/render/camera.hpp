@@ -69,9 +69,4 @@ struct CameraPath {
 CameraPath camera_path_from_json(const nlohmann::json& j, const std::string& name);
 CameraPath load_camera_path(const std::string& path);
 
-// Command-line helpers: "x,y,z" -> Vec3, "WxH" -> size. Throw ParameterError naming
-// `option`.
-Vec3 parse_vec3(const std::string& text, const std::string& option);
-void parse_size(const std::string& text, const std::string& option, int& width, int& height);
-
 }  // namespace vlf
