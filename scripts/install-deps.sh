@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libglfw3-dev libgl-dev libopengl-dev
   xvfb libgl1-mesa-dri xauth
-  openexr gnuplot-nox python3 linux-perf heaptrack
+  openexr gnuplot-nox python3 python3-jsonschema linux-perf heaptrack
 )
 
 missing=()

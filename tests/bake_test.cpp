@@ -15,6 +15,7 @@
 #include <iterator>
 #include <string>
 
+#include "vlf/bake/scene_json.hpp"
 #include "vlf/core/checksum.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/scene/scene_loader.hpp"
@@ -407,7 +408,7 @@ TEST_F(BakeBundle, OtherFormatVersion) {
 TEST_F(BakeBundle, NotAManifest) {
     written();
     std::ofstream(file("manifest.json"), std::ios::trunc) << "{\"format\": \"vlf-bake\", ";
-    expect_refused({m_bundle, "manifest.json", "JSON"});
+    expect_refused({m_bundle + "/manifest.json: line 1, column 24: malformed JSON: "});
 }
 
 TEST_F(BakeBundle, ManifestParametersDisagreeWithTheLightfield) {
@@ -421,9 +422,53 @@ TEST_F(BakeBundle, ManifestParametersDisagreeWithTheLightfield) {
 TEST_F(BakeBundle, ManifestTileDisagreesWithTheLightfield) {
     written();
     nlohmann::json m = read_json("manifest.json");
-    m["parameters"]["tile"] = 8;
+    const int tiles = m["parameters"]["tiles_per_side"].get<int>();
+    m["parameters"]["tile"] = 8;  // tiles_per_side still says 16 / 4
+    write_json("manifest.json", m);
+    expect_refused({m_bundle + "/manifest.json: parameters.tiles_per_side: ",
+                    fmt::format("must be resolution / tile = {} (got {})", tiles / 2, tiles)});
+    m["parameters"]["tiles_per_side"] = tiles / 2;  // consistent, but not the file's tiles
     write_json("manifest.json", m);
     expect_refused({m_bundle, "lightfield.exr: part 0", "manifest does not match its files"});
+}
+
+// A defect in the manifest's JSON is one line "<bundle>/manifest.json: <json.path>: ...".
+TEST_F(BakeBundle, ManifestWithAWrongType) {
+    written();
+    nlohmann::json m = read_json("manifest.json");
+    m["parameters"]["cycles"] = "four";
+    write_json("manifest.json", m);
+    expect_refused(
+        {m_bundle + "/manifest.json: parameters.cycles: expected an integer, got \"four\""});
+    m["parameters"]["cycles"] = 0;
+    write_json("manifest.json", m);
+    expect_refused({m_bundle + "/manifest.json: parameters: --cycles: 0 is out of range"});
+    m["parameters"]["cycles"] = 2;
+    m["files"]["scene.json"]["bytes"] = -1;
+    write_json("manifest.json", m);
+    expect_refused(
+        {m_bundle + "/manifest.json: files[\"scene.json\"].bytes: must be >= 0 (got -1)"});
+}
+
+TEST_F(BakeBundle, ManifestWithAnUnknownKey) {
+    written();
+    nlohmann::json m = read_json("manifest.json");
+    m["parameters"]["colour"] = 1;
+    write_json("manifest.json", m);
+    expect_refused({m_bundle + "/manifest.json: parameters.colour: unknown key (expected one of: "
+                               "directions, resolution, tile, tiles_per_side, scheme,"});
+    m["parameters"].erase("colour");
+    m["extra"] = true;
+    write_json("manifest.json", m);
+    expect_refused({m_bundle + "/manifest.json: extra: unknown key (expected one of: format,"});
+    m.erase("extra");
+    m["files"]["notes.txt"] = {{"bytes", 0}, {"sha256", ""}};
+    write_json("manifest.json", m);
+    expect_refused({m_bundle + "/manifest.json: files[\"notes.txt\"]: unknown key"});
+    m["files"].erase("notes.txt");
+    m["parameters"].erase("seed");
+    write_json("manifest.json", m);
+    expect_refused({m_bundle + "/manifest.json: parameters: missing required key 'seed'"});
 }
 
 TEST_F(BakeBundle, ManifestAtlasDisagreesWithTheScene) {
@@ -446,6 +491,37 @@ TEST_F(BakeBundle, SceneFromAnotherBundle) {
     m["files"]["scene.json"]["bytes"] = bytes;
     write_json("manifest.json", m);
     expect_refused({m_bundle, "scene.json", "manifest does not match its files"});
+}
+
+// scene.json with a checksum that agrees: its JSON is checked key by key.
+TEST_F(BakeBundle, SceneJsonWithAnUnknownKeyOrWrongType) {
+    written();
+    const nlohmann::json original = read_json("scene.json");
+    auto write_scene = [&](const nlohmann::json& s) {
+        write_json("scene.json", s);
+        nlohmann::json m = read_json("manifest.json");
+        uint64_t bytes = 0;
+        m["files"]["scene.json"]["sha256"] = sha256_file(file("scene.json").string(), bytes);
+        m["files"]["scene.json"]["bytes"] = bytes;
+        write_json("manifest.json", m);
+    };
+    nlohmann::json s = original;
+    s["faces"][2]["texels"]["colour"] = 1;
+    write_scene(s);
+    expect_refused({m_bundle + "/scene.json: faces[2].texels.colour: unknown key"});
+    s = original;
+    s["faces"][1]["material"] = 99;
+    write_scene(s);
+    expect_refused({m_bundle + "/scene.json: faces[1].material: must be in [0, 2] (got 99)"});
+    s = original;
+    s["faces"][3]["vertices"][1] = {0.5, "x", 0.5};
+    write_scene(s);
+    expect_refused(
+        {m_bundle + "/scene.json: faces[3].vertices[1][1]: expected a number, got \"x\""});
+    s = original;
+    s["faces"][0]["texel_area"].erase(0);
+    write_scene(s);
+    expect_refused({m_bundle + "/scene.json: faces[0].texel_area: ", " entries for a "});
 }
 
 TEST_F(BakeBundle, DamageBehindAForgedChecksumNeverCrashes) {

@@ -106,39 +106,86 @@ TEST(CameraPath, InterpolatesThroughKeyframes) {
     EXPECT_LT(p.at(0.5).eye.x, 0.7);
 }
 
+// Up between two keyframes rolled 170 degrees apart about the view direction: slerp of the
+// orientations keeps it a unit vector orthogonal to the view, turning at constant speed
+// through the shorter arc. A normalised linear blend of the up vectors (the blend itself
+// shrinks to 9% of unit length mid-way) has turned less than 5 degrees a quarter of the
+// way, where slerp has turned 42.5, and keeps a keyframe's up that is not orthogonal to
+// a tilted view.
+TEST(CameraPath, UpRotatesBySlerpOfTheOrientation) {
+    const double roll = glm::radians(170.0);
+    CameraPath p;
+    p.frames = 21;
+    CameraKeyframe a, b;
+    a.camera.eye = b.camera.eye = Vec3(1, 2, 3);
+    a.camera.look_at = b.camera.look_at = Vec3(1, 2, 13);  // looking along +z
+    a.camera.up = Vec3(0, 1, 0);
+    b.camera.up = Vec3(-std::sin(roll), std::cos(roll), 0);
+    b.time = 1.0;
+    p.keyframes = {a, b};
+    const Vec3 view(0, 0, 1);
+    double previous = -1.0;
+    for (int k = 0; k < p.frames; ++k) {
+        const double s = double(k) / (p.frames - 1);
+        const Camera c = p.frame(k);
+        EXPECT_NEAR(glm::length(c.up), 1.0, 1e-12) << "s = " << s;
+        EXPECT_NEAR(glm::dot(c.up, view), 0.0, 1e-12) << "s = " << s;
+        const double angle =
+            std::atan2(glm::dot(glm::cross(a.camera.up, c.up), view), glm::dot(a.camera.up, c.up));
+        EXPECT_NEAR(angle, s * roll, 1e-9) << "s = " << s;  // uniform, hence monotonic
+        EXPECT_GT(angle, previous) << "s = " << s;
+        previous = angle;
+    }
+    // Keyframes whose up is not orthogonal to their (downward) view: the interpolated up is.
+    for (CameraKeyframe* f : {&a, &b}) {
+        f->camera.look_at = f->camera.eye + Vec3(0, -1, 1);
+        f->camera.up = Vec3(0, 1, 0);
+    }
+    b.camera.eye.x += 1;
+    b.camera.look_at.x += 1;
+    p.keyframes = {a, b};
+    for (double t : {0.25, 0.5, 0.75}) {
+        const Camera c = p.at(t);
+        EXPECT_NEAR(glm::length(c.up), 1.0, 1e-12);
+        EXPECT_NEAR(glm::dot(c.up, glm::normalize(c.look_at - c.eye)), 0.0, 1e-12);
+        EXPECT_GT(c.up.y, 0.7);  // still up, tilted with the view
+    }
+}
+
 TEST(CameraPath, BadPathsThrowNamingThePlace) {
-    auto fails = [](const char* text, const char* needle) {
+    auto fails = [](const char* text, const char* needle) -> ::testing::AssertionResult {
         try {
             camera_path_from_json(nlohmann::json::parse(text), "p.json");
         } catch (const Error& e) {
-            return std::string(e.what()).find(needle) != std::string::npos;
+            if (std::string(e.what()).find(needle) != std::string::npos)
+                return ::testing::AssertionSuccess();
+            return ::testing::AssertionFailure() << "message: " << e.what();
         }
-        return false;
+        return ::testing::AssertionFailure() << "no error";
     };
-    EXPECT_TRUE(fails(R"({"frames": 3})", "keyframes"));
-    EXPECT_TRUE(fails(R"({"keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})", "frames"));
+    EXPECT_TRUE(fails(R"({"frames": 3})", "p.json: (top level): missing required key 'keyframes'"));
+    EXPECT_TRUE(fails(R"({"keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+                      "p.json: (top level): missing required key 'frames'"));
+    EXPECT_TRUE(fails(R"({"frames": "3", "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+                      "p.json: frames: expected an integer, got \"3\""));
+    EXPECT_TRUE(fails(R"({"frames": 0, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+                      "p.json: frames: must be in [1, 1000000] (got 0)"));
+    EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": []})",
+                      "p.json: keyframes: expected at least 1 element, got an empty array"));
     EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0],"look_at":[0,0,1]}]})",
-                      "keyframes[0].eye"));
+                      "p.json: keyframes[0].eye: expected an array of 3 numbers, got an array of "
+                      "2 elements"));
     EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1],"time":1},
                                                       {"eye":[0,0,0],"look_at":[0,0,1],"time":1}]})",
-                      "strictly increase"));
+                      "p.json: keyframes[1].time: times must strictly increase (1 after 1)"));
     EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1],"zoom":2}]})",
-                      "unknown key"));
-}
-
-TEST(CameraParse, VectorsAndSizes) {
-    EXPECT_EQ(parse_vec3("1,-2.5,3e2", "--eye"), Vec3(1, -2.5, 300));
-    EXPECT_THROW(parse_vec3("1,2", "--eye"), ParameterError);
-    EXPECT_THROW(parse_vec3("1,2,x", "--eye"), ParameterError);
-    EXPECT_THROW(parse_vec3("1,2,3,4", "--eye"), ParameterError);
-    EXPECT_THROW(parse_vec3("1,nan,3", "--eye"), ParameterError);
-    int w = 0, h = 0;
-    parse_size("640x480", "--size", w, h);
-    EXPECT_EQ(w, 640);
-    EXPECT_EQ(h, 480);
-    EXPECT_THROW(parse_size("640", "--size", w, h), ParameterError);
-    EXPECT_THROW(parse_size("0x480", "--size", w, h), ParameterError);
-    EXPECT_THROW(parse_size("-3x4", "--size", w, h), ParameterError);
+                      "p.json: keyframes[0].zoom: unknown key (expected one of: eye, look_at, up, "
+                      "fov_y_deg, time)"));
+    EXPECT_TRUE(fails(R"({"frames": 3, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,0]}]})",
+                      "p.json: keyframes[0]: eye and look_at coincide"));
+    EXPECT_TRUE(
+        fails(R"({"frames": 3, "fps": 30, "keyframes": [{"eye":[0,0,0],"look_at":[0,0,1]}]})",
+              "p.json: fps: unknown key (expected one of: keyframes, frames)"));
 }
 
 // ---------------------------------------------------------------------------------------

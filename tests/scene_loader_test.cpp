@@ -433,7 +433,21 @@ TEST(SceneBadInput, MalformedJsonNamesLineAndColumn) {
 
 TEST(SceneBadInput, UnknownTopLevelKey) {
     expect_error(R"({"materials": {}, "objects": [], "colour": 1})",
-                 "bad.json: colour: unknown key");
+                 "bad.json: colour: unknown key (expected one of: $schema, materials, objects, "
+                 "cameras, settings)");
+}
+
+// "$schema" (docs/scene.schema.json, for editors) is accepted and ignored; nothing else is.
+TEST(SceneSchemaKey, IsAcceptedAndIgnored) {
+    const std::string scene = R"({"$schema": "../docs/scene.schema.json", "materials": )" +
+                              kMaterials + R"(, "objects": [)" + kLamp + "]}";
+    EXPECT_EQ(load_scene_from_string(scene, "s.json", kScenes).faces.size(), 1u);
+    expect_error(
+        R"({"$schema": 2, "materials": )" + kMaterials + R"(, "objects": [)" + kLamp + "]}",
+        "bad.json: [\"$schema\"]: expected a string, got 2");
+    expect_error(with_objects(kLamp + R"(, {"$schema": "x", "type": "box", "min": [0,0,0],
+                                            "max": [1,1,1], "material": "white"})"),
+                 "bad.json: objects[1][\"$schema\"]: unknown key for a box");
 }
 
 TEST(SceneBadInput, UnknownObjectKey) {
@@ -448,7 +462,8 @@ TEST(SceneBadInput, UnknownObjectKey) {
             R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white", "radius": 1})"),
         "bad.json: objects[1].radius: unknown key for a box");
     expect_error(with_objects(kLamp + R"(, {"type": "cone", "material": "white"})"),
-                 "bad.json: objects[1].type: unknown type 'cone'");
+                 "bad.json: objects[1].type: unknown type 'cone' (known: polygon, box, sphere, "
+                 "cylinder, mesh)");
 }
 
 TEST(SceneBadInput, UnknownMaterialKey) {
@@ -456,11 +471,17 @@ TEST(SceneBadInput, UnknownMaterialKey) {
                  "bad.json: materials.lamp.glossy: unknown key");
 }
 
+TEST(SceneBadInput, KeysThatAreNotPlainWordsAreQuotedInThePath) {
+    expect_error(
+        with_objects(kLamp, R"({"lamp": {"emission": [1,1,1]}, "my lamp.2": {"diffuse": 1}})"),
+        "bad.json: materials[\"my lamp.2\"].diffuse: expected an array of 3 numbers, got 1");
+}
+
 TEST(SceneBadInput, UnknownMaterialName) {
     expect_error(
         with_objects(kLamp +
                      R"(, {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "glas"})"),
-        "bad.json: objects[1].material: unknown material 'glas'");
+        "bad.json: objects[1].material: unknown material 'glas' (known: white, lamp)");
 }
 
 TEST(SceneBadInput, MissingMeshFile) {
@@ -502,19 +523,19 @@ TEST(SceneBadInput, VectorOfWrongLength) {
     expect_error(
         with_objects(kLamp +
                      R"(, {"type": "box", "min": [0,0], "max": [1,1,1], "material": "white"})"),
-        "bad.json: objects[1].min: expected an array of 3 numbers, got 2 elements");
+        "bad.json: objects[1].min: expected an array of 3 numbers, got an array of 2 elements");
 }
 
 TEST(SceneBadInput, WrongType) {
     expect_error(
         with_objects(kLamp + R"(, {"type": "sphere", "radius": "big", "material": "white"})"),
-        "bad.json: objects[1].radius: expected a number, got a string");
+        "bad.json: objects[1].radius: expected a number, got \"big\"");
     expect_error(
         with_objects(kLamp +
                      R"(, {"type": "sphere", "radius": 1, "flip": 1, "material": "white"})"),
-        "bad.json: objects[1].flip: expected true or false");
+        "bad.json: objects[1].flip: expected true or false, got 1");
     expect_error(R"({"materials": [], "objects": []})",
-                 "bad.json: materials: expected an object, got an array");
+                 "bad.json: materials: expected an object, got an empty array");
 }
 
 TEST(SceneBadInput, EmptyObjects) {
@@ -567,6 +588,12 @@ TEST(SceneBadInput, BadCamera) {
                  "bad.json: cameras[0].fov_y_deg: must be in (0, 180)");
     expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40, "zoom": 2})"),
                  "bad.json: cameras[0].zoom: unknown key");
+    // The default up is checked too, and the message says it is the default.
+    expect_error(cam(R"({"eye": [0,0,0], "look_at": [0,5,0], "fov_y_deg": 40})"),
+                 "bad.json: cameras[0]: the default up [0,1,0] is parallel to the view direction");
+    expect_error(cam(R"({"name": "a", "eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40},
+                        {"name": "a", "eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40})"),
+                 "bad.json: cameras[1].name: duplicate camera name 'a'");
 }
 
 TEST(SceneBadInput, BadTexelSize) {
@@ -588,7 +615,8 @@ TEST(SceneBadInput, ErrorsFromAFileNameThePath) {
         load_scene(path);
         FAIL() << "expected an error";
     } catch (const SceneError& e) {
-        EXPECT_EQ(std::string(e.what()), path + ": objects[1].material: unknown material 'glas'");
+        EXPECT_EQ(std::string(e.what()),
+                  path + ": objects[1].material: unknown material 'glas' (known: white, lamp)");
     }
     try {
         load_scene(dir.path.string() + "/missing.json");

@@ -4,12 +4,14 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vlf/bake/bake.hpp"
@@ -33,10 +35,41 @@ namespace fs = std::filesystem;
 // fixed, so the figures do not depend on --pixel-samples; as fine as the accuracy tests.
 constexpr int kEmitterMaskSamples = 16;
 constexpr int kMaxPixelSamples = 64;
+constexpr int kMaxImageSide = 16384;
+
+// Checks of the elements of "x,y,z" and "WxH" (CLI11 splits the value at the delimiter and
+// reports a failure as one line naming the option: "--eye: 'x' is not a finite number
+// (expected x,y,z)"). A value too short takes the next argument as its last element.
+const CLI::Validator kFinite(
+    [](std::string& s) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(s, v) || !std::isfinite(v))
+            return "'" + s + "' is not a finite number (expected x,y,z)";
+        return {};
+    },
+    "");
+const CLI::Validator kImageSide(
+    [](std::string& s) -> std::string {
+        int v = 0;
+        if (!CLI::detail::lexical_cast(s, v) || v < 1 || v > kMaxImageSide)
+            return fmt::format("'{}' is not a whole number of pixels from 1 to {} (expected WxH)",
+                               s, kMaxImageSide);
+        return {};
+    },
+    "");
+
+// A vector option "x,y,z" (three finite numbers).
+CLI::Option* add_vec3(CLI::App& app, const std::string& name, std::array<double, 3>& v,
+                      const std::string& help) {
+    return app.add_option(name, v, help)->delimiter(',')->check(kFinite)->type_name("X,Y,Z");
+}
 
 struct Options {
-    std::string bake, camera, eye, look_at, up, size = "512x512", mode = "texture", output, path;
+    std::string bake, camera, mode = "texture", output, path;
     std::string format = "png", reference;
+    std::array<double, 3> eye{}, look_at{}, up{};  // with has_*: given on the command line
+    bool has_eye = false, has_look_at = false, has_up = false;
+    std::pair<int, int> size{512, 512};
     double fov = 0.0, exposure = 0.0;
     int spp = 64, threads = 0, max_depth = 16, pixel_samples = 1;
     uint64_t seed = 1;
@@ -46,8 +79,7 @@ struct Options {
 // The camera the options ask for: --camera NAME, or --eye/--look-at[/--up/--fov] on top of
 // the scene's first camera (or defaults), or the scene's first camera.
 vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
-    const bool explicit_view =
-        !o.eye.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0;
+    const bool explicit_view = o.has_eye || o.has_look_at || o.has_up || o.fov != 0.0;
     if (!o.camera.empty()) {
         if (explicit_view)
             throw vlf::ParameterError(
@@ -65,13 +97,14 @@ vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
     else if (!explicit_view)
         throw vlf::ParameterError("the scene has no camera: give --camera or --eye and --look-at");
     if (explicit_view) {
-        if (scene.cameras.empty() && (o.eye.empty() || o.look_at.empty()))
+        if (scene.cameras.empty() && (!o.has_eye || !o.has_look_at))
             throw vlf::ParameterError(
                 "--eye and --look-at are both needed (the scene has no camera)");
         cam.name = "command line";
-        if (!o.eye.empty()) cam.eye = vlf::parse_vec3(o.eye, "--eye");
-        if (!o.look_at.empty()) cam.look_at = vlf::parse_vec3(o.look_at, "--look-at");
-        if (!o.up.empty()) cam.up = vlf::parse_vec3(o.up, "--up");
+        auto vec = [](const std::array<double, 3>& v) { return vlf::Vec3(v[0], v[1], v[2]); };
+        if (o.has_eye) cam.eye = vec(o.eye);
+        if (o.has_look_at) cam.look_at = vec(o.look_at);
+        if (o.has_up) cam.up = vec(o.up);
         if (o.fov != 0.0) cam.fov_y_deg = o.fov;
     }
     vlf::validate_camera(cam, "camera");
@@ -121,7 +154,8 @@ int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderS
 int run(const Options& o) {
     // Validate every cheap option before the (possibly long) bundle read.
     vlf::RenderSettings rs;
-    vlf::parse_size(o.size, "--size", rs.width, rs.height);
+    rs.width = o.size.first;
+    rs.height = o.size.second;
     rs.mode = vlf::render_mode_from_string(o.mode);
     if (o.spp < 1) throw vlf::ParameterError("--spp: must be at least 1");
     if (o.threads < 0) throw vlf::ParameterError("--threads: must be >= 0");
@@ -170,7 +204,7 @@ int run(const Options& o) {
     std::printf("walkthrough: loaded %s in %.3f s\n", o.bake.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - l0).count());
     if (!o.path.empty()) {
-        if (!o.camera.empty() || !o.eye.empty() || !o.look_at.empty())
+        if (!o.camera.empty() || o.has_eye || o.has_look_at)
             throw vlf::ParameterError("--path: cannot be combined with --camera/--eye/--look-at");
         return run_path(o, renderer, rs);
     }
@@ -216,11 +250,16 @@ int main(int argc, char** argv) {
         "Example: walkthrough out/cornell.vlf --camera default -o out/cornell.png"};
     app.add_option("bake", o.bake, "Bake bundle written by propagate (OUT.vlf)")->required();
     app.add_option("--camera", o.camera, "Named camera of the scene (default: the first)");
-    app.add_option("--eye", o.eye, "Eye position x,y,z (scene units)");
-    app.add_option("--look-at", o.look_at, "Point looked at x,y,z (scene units)");
-    app.add_option("--up", o.up, "Up vector x,y,z");
+    CLI::Option* eye = add_vec3(app, "--eye", o.eye, "Eye position x,y,z (scene units)");
+    CLI::Option* look_at =
+        add_vec3(app, "--look-at", o.look_at, "Point looked at x,y,z (scene units)");
+    CLI::Option* up = add_vec3(app, "--up", o.up, "Up vector x,y,z");
     app.add_option("--fov", o.fov, "Vertical field of view, degrees");
-    app.add_option("--size", o.size, "Image size WxH")->capture_default_str();
+    app.add_option("--size", o.size, "Image size WxH, e.g. 640x480")
+        ->delimiter('x')
+        ->check(kImageSide)
+        ->type_name("WxH")
+        ->default_str("512x512");
     app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")
         ->capture_default_str();
     app.add_option("--spp", o.spp, "Samples per pixel (pathtrace)")->capture_default_str();
@@ -242,5 +281,10 @@ int main(int argc, char** argv) {
                    "Reference EXR of the same view and size: print the relative RMSE (whole "
                    "image and away from emitters) and the mean ratio away from emitters");
     app.add_flag("--interactive", o.interactive, "Open the interactive window (GLFW)");
-    return vlf::cli_main(app, argc, argv, "walkthrough", [&] { return run(o); });
+    return vlf::cli_main(app, argc, argv, "walkthrough", [&] {
+        o.has_eye = eye->count() > 0;
+        o.has_look_at = look_at->count() > 0;
+        o.has_up = up->count() > 0;
+        return run(o);
+    });
 }

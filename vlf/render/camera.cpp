@@ -1,13 +1,14 @@
+// camera.cpp — pinhole cameras and keyframed camera paths (camera.hpp).
 #include "vlf/render/camera.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <glm/gtc/quaternion.hpp>
 
 #include "vlf/core/error.hpp"
+#include "vlf/core/json_reader.hpp"
 
 namespace vlf {
 
@@ -17,18 +18,40 @@ bool finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// The camera's orientation: the rotation taking +z to its view direction and +y to its
+// up vector made orthogonal to the view.
+glm::dquat orientation(const Camera& c) {
+    const Vec3 forward = glm::normalize(c.look_at - c.eye);
+    const Vec3 right = glm::normalize(glm::cross(c.up, forward));
+    return glm::quat_cast(Mat3(right, glm::cross(forward, right), forward));
+}
+
+// `up` made a unit vector orthogonal to the view direction `view`; `fallback` (the
+// interpolated view direction) stands in for an up parallel to the view.
+Vec3 up_for(const Vec3& view, const Vec3& up, const Vec3& fallback) {
+    const Vec3 f = glm::normalize(view);
+    Vec3 u = up - glm::dot(up, f) * f;
+    if (glm::length(u) < 1e-9) u = fallback - glm::dot(fallback, f) * f;
+    return glm::normalize(u);
+}
+
 }  // namespace
 
-void validate_camera(const Camera& c, const std::string& what) {
+std::optional<std::string> camera_problem(const Camera& c) {
     if (!finite(c.eye) || !finite(c.look_at) || !finite(c.up) || !std::isfinite(c.fov_y_deg))
-        throw ParameterError(what + ": non-finite camera value");
+        return "non-finite camera value";
     const Vec3 f = c.look_at - c.eye;
-    if (glm::length(f) <= 0.0) throw ParameterError(what + ": eye and look_at coincide");
-    if (glm::length(c.up) <= 0.0) throw ParameterError(what + ": up is the zero vector");
+    if (glm::length(f) <= 0.0) return "eye and look_at coincide";
+    if (glm::length(c.up) <= 0.0) return "up is the zero vector";
     if (glm::length(glm::cross(glm::normalize(f), glm::normalize(c.up))) < 1e-9)
-        throw ParameterError(what + ": up is parallel to the view direction");
+        return "up is parallel to the view direction";
     if (!(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0))
-        throw ParameterError(fmt::format("{}: fov {} outside (0, 180) degrees", what, c.fov_y_deg));
+        return fmt::format("fov {} outside (0, 180) degrees", c.fov_y_deg);
+    return std::nullopt;
+}
+
+void validate_camera(const Camera& c, const std::string& what) {
+    if (const auto problem = camera_problem(c)) throw ParameterError(what + ": " + *problem);
 }
 
 PinholeCamera::PinholeCamera(const Camera& camera, const Normalisation& norm, int width, int height)
@@ -79,8 +102,10 @@ Camera CameraPath::at(double t) const {
     c.name = fmt::format("path@{}", t);
     c.eye = hermite([](const CameraKeyframe& f) { return f.camera.eye; });
     c.look_at = hermite([](const CameraKeyframe& f) { return f.camera.look_at; });
-    const Vec3 up = (1 - s) * a.camera.up + s * b.camera.up;
-    c.up = glm::length(up) > 0 ? glm::normalize(up) : a.camera.up;
+    // Orientation by spherical interpolation (shortest arc, constant angular speed): a
+    // linear blend of the up vectors speeds up, shrinks and can flip when they are far apart.
+    const glm::dquat q = glm::slerp(orientation(a.camera), orientation(b.camera), s);
+    c.up = up_for(c.look_at - c.eye, q * Vec3(0, 1, 0), q * Vec3(0, 0, 1));
     c.fov_y_deg = (1 - s) * a.camera.fov_y_deg + s * b.camera.fov_y_deg;
     return c;
 }
@@ -93,115 +118,45 @@ Camera CameraPath::frame(int k) const {
     return c;
 }
 
+namespace {
+
+CameraKeyframe read_keyframe(const JsonReader& r, size_t index, const CameraKeyframe* previous) {
+    r.only_keys({"eye", "look_at", "up", "fov_y_deg", "time"});
+    CameraKeyframe f;
+    f.time = double(index);
+    f.camera.name = fmt::format("keyframe {}", index);
+    f.camera.up = Vec3(0, 1, 0);
+    f.camera.fov_y_deg = 45.0;
+    f.camera.eye = r.required("eye").vec3();
+    f.camera.look_at = r.required("look_at").vec3();
+    if (const auto up = r.optional("up")) f.camera.up = up->vec3();
+    if (const auto fov = r.optional("fov_y_deg")) f.camera.fov_y_deg = fov->number();
+    const auto time = r.optional("time");
+    if (time) f.time = time->number();
+    if (previous && !(f.time > previous->time))
+        (time ? *time : r)
+            .fail(
+                fmt::format("times must strictly increase ({} after {})", f.time, previous->time));
+    if (const auto problem = camera_problem(f.camera)) r.fail(*problem);
+    return f;
+}
+
+}  // namespace
+
 CameraPath camera_path_from_json(const nlohmann::json& j, const std::string& name) {
-    std::string where;
-    auto vec = [&](const nlohmann::json& v) {
-        if (!v.is_array() || v.size() != 3) throw Error("expected an array of 3 numbers");
-        for (const auto& x : v)
-            if (!x.is_number()) throw Error("expected an array of 3 numbers");
-        return Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
-    };
+    const JsonReader r(j, name);
+    r.only_keys({"keyframes", "frames"});
     CameraPath p;
-    try {
-        if (!j.is_object()) throw Error("expected an object with \"keyframes\" and \"frames\"");
-        for (auto it = j.begin(); it != j.end(); ++it)
-            if (it.key() != "keyframes" && it.key() != "frames") {
-                where = it.key();
-                throw Error("unknown key");
-            }
-        where = "frames";
-        if (!j.contains("frames") || !j["frames"].is_number_integer())
-            throw Error("expected an integer frame count");
-        p.frames = j["frames"].get<int>();
-        if (p.frames < 1 || p.frames > 1000000) throw Error("must be in [1, 1000000]");
-        where = "keyframes";
-        if (!j.contains("keyframes") || !j["keyframes"].is_array() || j["keyframes"].empty())
-            throw Error("expected a non-empty array");
-        const auto& ks = j["keyframes"];
-        for (size_t k = 0; k < ks.size(); ++k) {
-            where = fmt::format("keyframes[{}]", k);
-            const auto& kj = ks[k];
-            if (!kj.is_object()) throw Error("expected an object");
-            CameraKeyframe f;
-            f.time = double(k);
-            f.camera.up = Vec3(0, 1, 0);
-            f.camera.fov_y_deg = 45.0;
-            for (auto it = kj.begin(); it != kj.end(); ++it) {
-                where = fmt::format("keyframes[{}].{}", k, it.key());
-                if (it.key() == "eye")
-                    f.camera.eye = vec(*it);
-                else if (it.key() == "look_at")
-                    f.camera.look_at = vec(*it);
-                else if (it.key() == "up")
-                    f.camera.up = vec(*it);
-                else if (it.key() == "fov_y_deg") {
-                    if (!it->is_number()) throw Error("expected a number");
-                    f.camera.fov_y_deg = it->get<double>();
-                } else if (it.key() == "time") {
-                    if (!it->is_number()) throw Error("expected a number");
-                    f.time = it->get<double>();
-                } else
-                    throw Error("unknown key");
-            }
-            where = fmt::format("keyframes[{}]", k);
-            if (!kj.contains("eye") || !kj.contains("look_at"))
-                throw Error("needs \"eye\" and \"look_at\"");
-            if (!std::isfinite(f.time)) throw Error("non-finite time");
-            if (!p.keyframes.empty() && !(f.time > p.keyframes.back().time))
-                throw Error("times must strictly increase");
-            validate_camera(f.camera, "camera");
-            f.camera.name = fmt::format("keyframe {}", k);
-            p.keyframes.push_back(f);
-        }
-    } catch (const Error& e) {
-        throw Error(fmt::format("{}: {}{}{}", name, where, where.empty() ? "" : ": ", e.what()));
-    }
+    p.frames = r.required("frames").integer(1, 1000000);
+    const std::vector<JsonReader> keyframes = r.required("keyframes").elements(1);
+    for (size_t k = 0; k < keyframes.size(); ++k)
+        p.keyframes.push_back(
+            read_keyframe(keyframes[k], k, p.keyframes.empty() ? nullptr : &p.keyframes.back()));
     return p;
 }
 
 CameraPath load_camera_path(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw Error(path + ": cannot be opened");
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(path + ": malformed JSON: " + e.what());
-    }
-    return camera_path_from_json(j, path);
-}
-
-Vec3 parse_vec3(const std::string& text, const std::string& option) {
-    Vec3 v(0.0);
-    std::string s = text;
-    std::replace(s.begin(), s.end(), ',', ' ');
-    std::istringstream in(s);
-    int count = 0;
-    double x;
-    while (in >> x) {
-        if (count < 3) v[count] = x;
-        ++count;
-    }
-    in.clear();
-    std::string rest;
-    if (in >> rest || count != 3 || std::count(text.begin(), text.end(), ',') != 2 || !finite(v))
-        throw ParameterError(
-            fmt::format("{}: '{}' is not a vector x,y,z of three finite numbers", option, text));
-    return v;
-}
-
-void parse_size(const std::string& text, const std::string& option, int& width, int& height) {
-    const size_t x = text.find_first_of("xX");
-    auto number = [&](const std::string& s, int& out) {
-        if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos)
-            return false;
-        out = std::stoi(s);
-        return out >= 1 && out <= 16384;
-    };
-    if (x == std::string::npos || !number(text.substr(0, x), width) ||
-        !number(text.substr(x + 1), height))
-        throw ParameterError(
-            fmt::format("{}: '{}' is not a size WxH (integers in [1, 16384])", option, text));
+    return camera_path_from_json(read_json_file<nlohmann::json>(path), path);
 }
 
 }  // namespace vlf

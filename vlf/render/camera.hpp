@@ -8,6 +8,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,10 @@ class PinholeCamera {
     int m_width = 1, m_height = 1;
 };
 
-// Throws ParameterError ("<what>: ...") for a degenerate camera.
+// What is wrong with a camera (non-finite values, eye == look_at, up zero or parallel to
+// the view direction, fov outside (0, 180)), or nothing.
+std::optional<std::string> camera_problem(const Camera& camera);
+// Throws ParameterError ("<what>: <problem>") for a degenerate camera.
 void validate_camera(const Camera& camera, const std::string& what);
 
 // A keyframed camera path, JSON:
@@ -52,18 +56,17 @@ struct CameraPath {
     int frames = 1;
 
     // The camera at time t (clamped to the keyframes' span): eye and look_at by a
-    // Catmull-Rom spline (non-uniform times, Hermite form), up and fov linearly.
+    // Catmull-Rom spline (non-uniform times, Hermite form); up from the spherical linear
+    // interpolation (slerp) of the keyframes' orientations, made orthogonal to the
+    // interpolated view direction (a unit vector); fov linearly.
     Camera at(double t) const;
     // Frame k of `frames` (k = 0 .. frames-1).
     Camera frame(int k) const;
 };
 
-CameraPath camera_path_from_json(const nlohmann::json& j, const std::string& name);  // throws Error
-CameraPath load_camera_path(const std::string& path);                                // throws Error
-
-// Command-line helpers: "x,y,z" -> Vec3, "WxH" -> size. Throw ParameterError naming
-// `option`.
-Vec3 parse_vec3(const std::string& text, const std::string& option);
-void parse_size(const std::string& text, const std::string& option, int& width, int& height);
+// Throw Error "<file>: <json.path>: <problem>" (core/json_reader.hpp); unknown keys are
+// refused. `name` names the file in messages.
+CameraPath camera_path_from_json(const nlohmann::json& j, const std::string& name);
+CameraPath load_camera_path(const std::string& path);
 
 }  // namespace vlf

@@ -1,32 +1,39 @@
 // scene_loader.cpp — JSON scene files to a Scene (DESIGN §3), in four stages:
 //
-//   parse     text -> JSON tree; syntax errors name line and column, numbers that overflow
-//             a double (1e999) name their JSON place, duplicate keys are errors;
-//   validate  JSON tree -> SceneDescription: every key known, every type and range checked,
-//             materials resolved; nothing is read from disk yet;
+//   parse     text -> JSON tree (core/json_reader.hpp): syntax errors name line and column,
+//             numbers that overflow a double (1e999) name their JSON place, duplicate keys
+//             are errors;
+//   validate  JSON tree -> SceneDescription through the JSON reader: every key known, every
+//             type and range checked, materials resolved; nothing is read from disk yet;
 //   load      mesh files -> ImportedMesh (OpenMesh readers);
 //   build     shapes -> transformed polygons (user units) -> checked convex planar faces
 //             -> normalisation into the unit ball -> texel frames.
 //
-// Keys (anything else is an error; "?" = optional, with its default):
-//   top level   materials {name: material}, objects [object, ...] (non-empty),
-//               cameras? [camera, ...], settings? {texel_size? (> 0, user units), units? (string)}
-//   material    diffuse? [r,g,b] = 0, specular? [r,g,b] = 0 (each in [0,1], diffuse+specular <= 1
-//               per channel), emission? [r,g,b] = 0 (>= 0, W m^-2 sr^-1)
-//   object      type (polygon|box|sphere|cylinder|mesh), material, name? = "<type>#<index>",
-//               two_sided? = false, flip? = false, scale? = 1 (number or [sx,sy,sz], > 0),
-//               rotate_x_deg? / rotate_y_deg? / rotate_z_deg? = 0, translate? = [0,0,0]
-//               applied as: scale, rotate x, y, z (about the pivot), translate. Pivot: box
-//               centre, sphere centre, cylinder axis midpoint; the origin for polygon and mesh.
-//     polygon   vertices [[x,y,z] x >= 3] (counter-clockwise seen from the front), triangulate? =
-//     false box       min, max (max > min per axis) sphere    center? = [0,0,0], radius (> 0),
-//     subdivisions? = 2 (integer 0..6) cylinder  radius (> 0), height (> 0), inner_radius? = 0 (0
-//     <= inner < radius),
-//               center? = [0,0,0] (base centre; axis +y), segments? = 32 (3..4096), caps? = true
-//     mesh      file (.obj .ply .off .stl, relative to the scene file's directory), triangulate? =
-//     false
-//   camera      name? = "camera#<index>", eye, look_at (!= eye), up? = [0,1,0] (not parallel to
-//               the view direction), fov_y_deg (0 < fov < 180); user units
+// Every problem is a SceneError "<file>: <json.path>: <message>".
+//
+// Keys (anything else is an error; "?" = optional, with its default). docs/scene.schema.json
+// says the same as a JSON Schema; keep the two in step (tests/scene_schema_test.py).
+//   top level  materials {name: material}, objects [object, ...] (non-empty),
+//              cameras? [camera, ...], settings? {texel_size? (> 0, user units),
+//              units? (string)}, $schema? (string: the schema, for editors; ignored)
+//   material   diffuse? [r,g,b] = 0, specular? [r,g,b] = 0 (each in [0,1],
+//              diffuse + specular <= 1 per channel), emission? [r,g,b] = 0 (>= 0, W m^-2 sr^-1)
+//   object     type (polygon|box|sphere|cylinder|mesh), material, name? = "<type>#<index>",
+//              two_sided? = false, flip? = false, scale? = 1 (number or [sx,sy,sz], > 0),
+//              rotate_x_deg? / rotate_y_deg? / rotate_z_deg? = 0, translate? = [0,0,0]
+//              applied as: scale, rotate x, y, z (about the pivot), translate. Pivot: box
+//              centre, sphere centre, cylinder axis midpoint; the origin for polygon and mesh.
+//   - polygon  vertices [[x,y,z] x >= 3] (counter-clockwise seen from the front),
+//              triangulate? = false
+//   - box      min, max (max > min per axis)
+//   - sphere   center? = [0,0,0], radius (> 0), subdivisions? = 2 (integer 0..6)
+//   - cylinder radius (> 0), height (> 0), inner_radius? = 0 (0 <= inner < radius),
+//              center? = [0,0,0] (base centre; axis +y), segments? = 32 (3..4096),
+//              caps? = true
+//   - mesh     file (.obj .ply .off .stl, relative to the scene file's directory),
+//              triangulate? = false
+//   camera     name? = "camera#<index>", eye, look_at (!= eye), up? = [0,1,0] (not parallel
+//              to the view direction), fov_y_deg (0 < fov < 180); user units
 // "triangulate": true turns every face of the object into triangles (ear clipping for planar
 // faces, convex or not; a fan from vertex 0 for non-planar ones; zero-area triangles dropped).
 //
@@ -43,14 +50,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include "vlf/core/error.hpp"
+#include "vlf/core/json_reader.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/sealed_areas.hpp"
@@ -61,6 +67,7 @@ namespace vlf {
 namespace {
 
 using Json = nlohmann::ordered_json;  // keeps file order: materials are indexed as written
+using Reader = OrderedJsonReader;
 
 constexpr double kRelativeTolerance = 1e-6;
 constexpr double kNormalisedRadius = 0.999;  // geometry strictly inside the unit ball
@@ -69,143 +76,7 @@ constexpr double kNormalisedRadius = 0.999;  // geometry strictly inside the uni
     throw SceneError(fmt::format("{}: {}: {}", file, place, what));
 }
 
-// ================================ stage 1: parse ========================================
-
-// A SAX handler that builds the tree itself so it always knows the JSON place of the
-// value being read: nlohmann's DOM parser reports a number overflow (1e999) without one.
-class TreeBuilder {
-  public:
-    using number_integer_t = Json::number_integer_t;
-    using number_unsigned_t = Json::number_unsigned_t;
-    using number_float_t = Json::number_float_t;
-    using string_t = Json::string_t;
-    using binary_t = Json::binary_t;
-
-    TreeBuilder(const std::string& file, const std::string& text) : m_file(file), m_text(text) {}
-
-    Json& root() { return m_root; }
-
-    bool null() { return add(Json(nullptr)); }
-    bool boolean(bool v) { return add(Json(v)); }
-    bool number_integer(number_integer_t v) { return add(Json(v)); }
-    bool number_unsigned(number_unsigned_t v) { return add(Json(v)); }
-    bool number_float(number_float_t v, const string_t& s) {
-        if (!std::isfinite(v))
-            fail(m_file, next_place(), fmt::format("number '{}' is not finite", s));
-        return add(Json(v));
-    }
-    bool string(string_t& v) { return add(Json(v)); }
-    bool binary(binary_t&) { return add(Json(nullptr)); }  // not produced by the JSON reader
-    bool start_object(std::size_t) {
-        Json* j = add_container(Json::object());
-        m_stack.push_back({j, false, {}, -1, {}});
-        return true;
-    }
-    bool key(string_t& k) {
-        Frame& f = m_stack.back();
-        if (!f.keys.insert(k).second) fail(m_file, join(place_of_stack(), k), "duplicate key");
-        f.key = k;
-        return true;
-    }
-    bool end_object() {
-        m_stack.pop_back();
-        return true;
-    }
-    bool start_array(std::size_t) {
-        Json* j = add_container(Json::array());
-        m_stack.push_back({j, true, {}, -1, {}});
-        return true;
-    }
-    bool end_array() {
-        m_stack.pop_back();
-        return true;
-    }
-    bool parse_error(std::size_t position, const std::string& /*last_token*/,
-                     const nlohmann::detail::exception& ex) {
-        if (ex.id == 406)  // out_of_range: number overflow, e.g. 1e999
-            fail(m_file, next_place(), fmt::format("number is not finite (it overflows a double)"));
-        // Line and column of the offending character, from nlohmann's byte count.
-        const std::size_t at = position == 0 ? 0 : std::min(position - 1, m_text.size());
-        std::size_t line = 1, line_start = 0;
-        for (std::size_t i = 0; i < at; ++i)
-            if (m_text[i] == '\n') ++line, line_start = i + 1;
-        const std::size_t column = at - line_start + 1;
-        std::string what = ex.what();
-        // "[json.exception.parse_error.101] parse error at line 3, column 5: syntax error ..."
-        if (auto p = what.find("parse error"); p != std::string::npos)
-            if (auto q = what.find(": ", p); q != std::string::npos) what = what.substr(q + 2);
-        fail(m_file, fmt::format("line {}, column {}", line, column), "malformed JSON: " + what);
-    }
-
-  private:
-    struct Frame {
-        Json* value;
-        bool is_array;
-        std::string key;
-        long index;
-        std::set<std::string> keys;
-    };
-
-    static std::string join(const std::string& parent, const std::string& key) {
-        return parent.empty() ? key : parent + "." + key;
-    }
-    // Place of the container on top of the stack.
-    std::string place_of_stack() const {
-        std::string p;
-        for (size_t i = 0; i + 1 < m_stack.size(); ++i) {
-            const Frame& f = m_stack[i];
-            p = f.is_array ? p + fmt::format("[{}]", f.index) : join(p, f.key);
-        }
-        return p;
-    }
-    // Place of the value about to be added to the top container.
-    std::string next_place() const {
-        if (m_stack.empty()) return "(top level)";
-        const Frame& f = m_stack.back();
-        const std::string parent = place_of_stack();
-        return f.is_array ? parent + fmt::format("[{}]", f.index + 1) : join(parent, f.key);
-    }
-    bool add(Json v) {
-        if (m_stack.empty()) {
-            m_root = std::move(v);
-        } else if (Frame& f = m_stack.back(); f.is_array) {
-            ++f.index;
-            f.value->push_back(std::move(v));
-        } else {
-            (*f.value)[f.key] = std::move(v);
-        }
-        return true;
-    }
-    Json* add_container(Json v) {
-        if (m_stack.empty()) {
-            m_root = std::move(v);
-            return &m_root;
-        }
-        Frame& f = m_stack.back();
-        if (f.is_array) {
-            ++f.index;
-            f.value->push_back(std::move(v));
-            return &f.value->back();
-        }
-        (*f.value)[f.key] = std::move(v);
-        return &(*f.value)[f.key];
-    }
-
-    const std::string& m_file;
-    const std::string& m_text;
-    Json m_root;
-    // Pointers into the tree stay valid: only the innermost open container ever grows.
-    std::vector<Frame> m_stack;
-};
-
-Json parse_json(const std::string& text, const std::string& file) {
-    TreeBuilder builder(file, text);
-    const bool ok = Json::sax_parse(text, &builder);
-    if (!ok) fail(file, "(top level)", "malformed JSON");
-    return std::move(builder.root());
-}
-
-// =============================== stage 2: validate ======================================
+// ============================ stages 1 and 2: parse, validate ============================
 
 struct ObjectDesc {
     std::string place;  // "objects[3]"
@@ -231,126 +102,41 @@ struct SceneDescription {
     std::string units;
 };
 
-// Typed, place-naming accessors over the JSON tree.
-class Validator {
-  public:
-    explicit Validator(const std::string& file) : m_file(file) {}
+const std::vector<std::string> kObjectTypes = {"polygon", "box", "sphere", "cylinder", "mesh"};
 
-    [[noreturn]] void error(const std::string& place, const std::string& what) const {
-        fail(m_file, place, what);
-    }
+// The keys an object of `type` may have.
+std::vector<std::string> object_keys(const std::string& type) {
+    std::vector<std::string> keys = {"type",         "material", "name",         "two_sided",
+                                     "flip",         "scale",    "rotate_x_deg", "rotate_y_deg",
+                                     "rotate_z_deg", "translate"};
+    std::vector<std::string> specific;
+    if (type == "polygon")
+        specific = {"vertices", "triangulate"};
+    else if (type == "box")
+        specific = {"min", "max"};
+    else if (type == "sphere")
+        specific = {"center", "radius", "subdivisions"};
+    else if (type == "cylinder")
+        specific = {"radius", "inner_radius", "height", "center", "segments", "caps"};
+    else if (type == "mesh")
+        specific = {"file", "triangulate"};
+    keys.insert(keys.end(), specific.begin(), specific.end());
+    return keys;
+}
 
-    static std::string key_place(const std::string& parent, const std::string& key) {
-        return parent.empty() ? key : parent + "." + key;
-    }
-
-    void expect_object(const Json& j, const std::string& place) const {
-        if (!j.is_object()) error(place, fmt::format("expected an object, got {}", describe(j)));
-    }
-
-    void check_keys(const Json& obj, const std::string& place,
-                    const std::vector<std::string>& allowed,
-                    const std::string& context = "") const {
-        for (const auto& [k, v] : obj.items()) {
-            if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
-            std::string list;
-            for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-            error(key_place(place, k),
-                  fmt::format("unknown key{} (expected one of: {})", context, list));
-        }
-    }
-
-    const Json& required(const Json& obj, const std::string& place, const std::string& key) const {
-        auto it = obj.find(key);
-        if (it == obj.end()) error(place, fmt::format("missing required key '{}'", key));
-        return *it;
-    }
-
-    static const Json* optional(const Json& obj, const std::string& key) {
-        auto it = obj.find(key);
-        return it == obj.end() ? nullptr : &*it;
-    }
-
-    double number(const Json& j, const std::string& place) const {
-        if (!j.is_number()) error(place, fmt::format("expected a number, got {}", describe(j)));
-        const double v = j.get<double>();
-        if (!std::isfinite(v)) error(place, "number is not finite");
-        return v;
-    }
-
-    double positive(const Json& j, const std::string& place) const {
-        const double v = number(j, place);
-        if (!(v > 0)) error(place, fmt::format("must be > 0 (got {})", v));
-        return v;
-    }
-
-    int integer(const Json& j, const std::string& place, int lo, int hi) const {
-        const double v = number(j, place);
-        if (v != std::floor(v)) error(place, fmt::format("expected an integer, got {}", v));
-        if (v < lo || v > hi) error(place, fmt::format("must be in [{}, {}] (got {})", lo, hi, v));
-        return static_cast<int>(v);
-    }
-
-    bool boolean(const Json& j, const std::string& place) const {
-        if (!j.is_boolean())
-            error(place, fmt::format("expected true or false, got {}", describe(j)));
-        return j.get<bool>();
-    }
-
-    std::string string(const Json& j, const std::string& place) const {
-        if (!j.is_string()) error(place, fmt::format("expected a string, got {}", describe(j)));
-        return j.get<std::string>();
-    }
-
-    Vec3 vec3(const Json& j, const std::string& place) const {
-        if (!j.is_array())
-            error(place, fmt::format("expected an array of 3 numbers, got {}", describe(j)));
-        if (j.size() != 3)
-            error(place, fmt::format("expected an array of 3 numbers, got {} element{}", j.size(),
-                                     j.size() == 1 ? "" : "s"));
-        Vec3 v;
-        for (int i = 0; i < 3; ++i) v[i] = number(j[i], fmt::format("{}[{}]", place, i));
-        return v;
-    }
-
-    Vec3 positive_vec3(const Json& j, const std::string& place) const {
-        Vec3 v = vec3(j, place);
-        for (int i = 0; i < 3; ++i)
-            if (!(v[i] > 0))
-                error(fmt::format("{}[{}]", place, i), fmt::format("must be > 0 (got {})", v[i]));
-        return v;
-    }
-
-    static std::string describe(const Json& j) {
-        if (j.is_array()) return "an array";
-        if (j.is_object()) return "an object";
-        if (j.is_string()) return fmt::format("a string ('{}')", j.get<std::string>());
-        if (j.is_boolean()) return j.get<bool>() ? "true" : "false";
-        if (j.is_null()) return "null";
-        if (j.is_number()) return fmt::format("the number {}", j.get<double>());
-        return j.type_name();
-    }
-
-  private:
-    const std::string& m_file;
-};
-
-Material validate_material(const Validator& v, const std::string& name, const Json& j) {
-    const std::string place = "materials." + name;
-    v.expect_object(j, place);
-    v.check_keys(j, place, {"diffuse", "specular", "emission"});
+Material validate_material(const Reader& r, const std::string& name) {
+    r.only_keys({"diffuse", "specular", "emission"});
     Material m;
     m.name = name;
     auto rgb = [&](const char* key, double upper) {
         Rgb c(0.0);
-        const Json* e = Validator::optional(j, key);
+        const auto e = r.optional(key);
         if (!e) return c;
-        const std::string p = place + "." + key;
-        c = v.vec3(*e, p);
+        c = e->vec3();
         for (int i = 0; i < 3; ++i) {
-            const std::string pi = fmt::format("{}[{}]", p, i);
-            if (c[i] < 0) v.error(pi, fmt::format("must be >= 0 (got {})", c[i]));
-            if (c[i] > upper) v.error(pi, fmt::format("reflectance must be <= 1 (got {})", c[i]));
+            if (c[i] < 0) e->element(i).fail(fmt::format("must be >= 0 (got {})", c[i]));
+            if (c[i] > upper)
+                e->element(i).fail(fmt::format("reflectance must be <= 1 (got {})", c[i]));
         }
         return c;
     };
@@ -360,201 +146,197 @@ Material validate_material(const Validator& v, const std::string& name, const Js
     m.emission = rgb("emission", inf);
     for (int i = 0; i < 3; ++i)
         if (m.diffuse[i] + m.specular[i] > 1.0)
-            v.error(place,
-                    fmt::format("diffuse + specular = {} > 1 in channel {} (reflectance must not "
-                                "exceed 1)",
-                                m.diffuse[i] + m.specular[i], i));
+            r.fail(fmt::format(
+                "diffuse + specular = {} > 1 in channel {} (reflectance must not exceed 1)",
+                m.diffuse[i] + m.specular[i], i));
     return m;
 }
 
-void validate_transform(const Validator& v, const Json& j, const std::string& place,
-                        ObjectDesc& o) {
-    if (const Json* s = Validator::optional(j, "scale")) {
-        const std::string p = place + ".scale";
-        if (s->is_number())
-            o.scale = Vec3(v.positive(*s, p));
-        else if (s->is_array())
-            o.scale = v.positive_vec3(*s, p);
-        else
-            v.error(p, fmt::format("expected a number or an array of 3 numbers, got {}",
-                                   Validator::describe(*s)));
+void validate_transform(const Reader& r, ObjectDesc& o) {
+    if (const auto s = r.optional("scale")) {
+        if (s->json().is_number()) {
+            o.scale = Vec3(s->positive());
+        } else if (s->json().is_array()) {
+            o.scale = s->vec3();
+            for (int i = 0; i < 3; ++i)
+                if (!(o.scale[i] > 0))
+                    s->element(i).fail(fmt::format("must be > 0 (got {})", o.scale[i]));
+        } else {
+            s->fail(fmt::format("expected a number or an array of 3 numbers, got {}",
+                                describe_json(s->json())));
+        }
     }
     const char* rot[3] = {"rotate_x_deg", "rotate_y_deg", "rotate_z_deg"};
     for (int a = 0; a < 3; ++a)
-        if (const Json* r = Validator::optional(j, rot[a]))
-            o.rotate_deg[a] = v.number(*r, place + "." + rot[a]);
-    if (const Json* t = Validator::optional(j, "translate"))
-        o.translate = v.vec3(*t, place + ".translate");
+        if (const auto v = r.optional(rot[a])) o.rotate_deg[a] = v->number();
+    if (const auto t = r.optional("translate")) o.translate = t->vec3();
 }
 
-ObjectDesc validate_object(const Validator& v, const Json& j, int index,
-                           const std::vector<Material>& materials, const std::string& base_dir) {
-    ObjectDesc o;
-    o.place = fmt::format("objects[{}]", index);
-    const std::string& place = o.place;
-    auto at = [&](const char* key) { return place + "." + key; };
-    v.expect_object(j, place);
+void validate_polygon(const Reader& r, ObjectDesc& o) {
+    const Reader vs = r.required("vertices");
+    if (!vs.json().is_array())
+        vs.fail(fmt::format("expected an array of points, got {}", describe_json(vs.json())));
+    const std::vector<Reader> points = vs.elements();
+    if (points.size() < 3)
+        vs.fail(fmt::format("a polygon needs at least 3 vertices (got {})", points.size()));
+    for (const Reader& p : points) o.vertices.push_back(p.vec3());
+}
 
-    o.type = v.string(v.required(j, place, "type"), at("type"));
-    const std::vector<std::string> common = {
-        "type",  "material",     "name",         "two_sided",    "flip",
-        "scale", "rotate_x_deg", "rotate_y_deg", "rotate_z_deg", "translate"};
-    std::vector<std::string> specific;
-    if (o.type == "polygon")
-        specific = {"vertices", "triangulate"};
-    else if (o.type == "box")
-        specific = {"min", "max"};
-    else if (o.type == "sphere")
-        specific = {"center", "radius", "subdivisions"};
-    else if (o.type == "cylinder")
-        specific = {"radius", "inner_radius", "height", "center", "segments", "caps"};
-    else if (o.type == "mesh")
-        specific = {"file", "triangulate"};
-    else
-        v.error(at("type"),
-                fmt::format("unknown type '{}' (expected polygon, box, sphere, cylinder or mesh)",
-                            o.type));
-    std::vector<std::string> allowed = common;
-    allowed.insert(allowed.end(), specific.begin(), specific.end());
-    v.check_keys(j, place, allowed, " for a " + o.type);
+void validate_box(const Reader& r, ObjectDesc& o) {
+    o.box_min = r.required("min").vec3();
+    const Reader max = r.required("max");
+    o.box_max = max.vec3();
+    for (int a = 0; a < 3; ++a)
+        if (!(o.box_max[a] > o.box_min[a]))
+            max.element(a).fail(fmt::format("must be greater than min[{}] ({} <= {})", a,
+                                            o.box_max[a], o.box_min[a]));
+}
 
-    const std::string mat = v.string(v.required(j, place, "material"), at("material"));
-    auto it = std::find_if(materials.begin(), materials.end(),
-                           [&](const Material& m) { return m.name == mat; });
-    if (it == materials.end()) v.error(at("material"), fmt::format("unknown material '{}'", mat));
-    o.material = static_cast<int>(it - materials.begin());
+void validate_sphere(const Reader& r, ObjectDesc& o) {
+    if (const auto c = r.optional("center")) o.center = c->vec3();
+    o.radius = r.required("radius").positive();
+    if (const auto s = r.optional("subdivisions")) o.subdivisions = s->integer(0, 6);
+}
 
-    o.name = fmt::format("{}#{}", o.type, index);
-    if (const Json* n = Validator::optional(j, "name")) o.name = v.string(*n, at("name"));
-    if (const Json* b = Validator::optional(j, "two_sided"))
-        o.two_sided = v.boolean(*b, at("two_sided"));
-    if (const Json* b = Validator::optional(j, "flip")) o.flip = v.boolean(*b, at("flip"));
-    if (const Json* b = Validator::optional(j, "triangulate"))
-        o.triangulate = v.boolean(*b, at("triangulate"));
-    validate_transform(v, j, place, o);
-
-    if (o.type == "polygon") {
-        const Json& vs = v.required(j, place, "vertices");
-        if (!vs.is_array())
-            v.error(at("vertices"),
-                    fmt::format("expected an array of points, got {}", Validator::describe(vs)));
-        if (vs.size() < 3)
-            v.error(at("vertices"),
-                    fmt::format("a polygon needs at least 3 vertices (got {})", vs.size()));
-        for (size_t i = 0; i < vs.size(); ++i)
-            o.vertices.push_back(v.vec3(vs[i], fmt::format("{}[{}]", at("vertices"), i)));
-    } else if (o.type == "box") {
-        o.box_min = v.vec3(v.required(j, place, "min"), at("min"));
-        o.box_max = v.vec3(v.required(j, place, "max"), at("max"));
-        for (int a = 0; a < 3; ++a)
-            if (!(o.box_max[a] > o.box_min[a]))
-                v.error(fmt::format("{}[{}]", at("max"), a),
-                        fmt::format("must be greater than min[{}] ({} <= {})", a, o.box_max[a],
-                                    o.box_min[a]));
-    } else if (o.type == "sphere") {
-        if (const Json* c = Validator::optional(j, "center")) o.center = v.vec3(*c, at("center"));
-        o.radius = v.positive(v.required(j, place, "radius"), at("radius"));
-        if (const Json* s = Validator::optional(j, "subdivisions"))
-            o.subdivisions = v.integer(*s, at("subdivisions"), 0, 6);
-    } else if (o.type == "cylinder") {
-        CylinderShape& c = o.cylinder;
-        c.radius = v.positive(v.required(j, place, "radius"), at("radius"));
-        c.height = v.positive(v.required(j, place, "height"), at("height"));
-        if (const Json* r = Validator::optional(j, "inner_radius")) {
-            c.inner_radius = v.number(*r, at("inner_radius"));
-            if (!(c.inner_radius >= 0 && c.inner_radius < c.radius))
-                v.error(at("inner_radius"), fmt::format("must be >= 0 and < radius {} (got {})",
-                                                        c.radius, c.inner_radius));
-        }
-        if (const Json* b = Validator::optional(j, "center"))
-            c.base_center = v.vec3(*b, at("center"));
-        if (const Json* s = Validator::optional(j, "segments"))
-            c.segments = v.integer(*s, at("segments"), 3, 4096);
-        if (const Json* b = Validator::optional(j, "caps")) c.caps = v.boolean(*b, at("caps"));
-    } else if (o.type == "mesh") {
-        o.file = v.string(v.required(j, place, "file"), at("file"));
-        if (o.file.empty()) v.error(at("file"), "empty file name");
-        std::filesystem::path p(o.file);
-        o.file_path = (p.is_absolute() || base_dir.empty())
-                          ? p.string()
-                          : (std::filesystem::path(base_dir) / p).string();
-        if (!is_supported_mesh_file(o.file))
-            v.error(at("file"),
-                    fmt::format("'{}': unsupported mesh format (use .obj, .ply, .off or .stl)",
-                                o.file));
+void validate_cylinder(const Reader& r, ObjectDesc& o) {
+    CylinderShape& c = o.cylinder;
+    c.radius = r.required("radius").positive();
+    c.height = r.required("height").positive();
+    if (const auto inner = r.optional("inner_radius")) {
+        c.inner_radius = inner->number();
+        if (!(c.inner_radius >= 0 && c.inner_radius < c.radius))
+            inner->fail(
+                fmt::format("must be >= 0 and < radius {} (got {})", c.radius, c.inner_radius));
     }
+    if (const auto b = r.optional("center")) c.base_center = b->vec3();
+    if (const auto s = r.optional("segments")) c.segments = s->integer(3, 4096);
+    if (const auto b = r.optional("caps")) c.caps = b->boolean();
+}
+
+void validate_mesh(const Reader& r, ObjectDesc& o, const std::string& base_dir) {
+    const Reader file = r.required("file");
+    o.file = file.string();
+    if (o.file.empty()) file.fail("empty file name");
+    std::filesystem::path p(o.file);
+    o.file_path = (p.is_absolute() || base_dir.empty())
+                      ? p.string()
+                      : (std::filesystem::path(base_dir) / p).string();
+    if (!is_supported_mesh_file(o.file))
+        file.fail(
+            fmt::format("'{}': unsupported mesh format (use .obj, .ply, .off or .stl)", o.file));
+}
+
+ObjectDesc validate_object(const Reader& r, int index,
+                           const std::vector<std::string>& material_names,
+                           const std::string& base_dir) {
+    ObjectDesc o;
+    o.place = r.path();
+    r.expect_object();
+    o.type = kObjectTypes[r.required("type").one_of(kObjectTypes, "type")];
+    r.only_keys(object_keys(o.type), " for a " + o.type);
+    o.material = static_cast<int>(r.required("material").one_of(material_names, "material"));
+    o.name = fmt::format("{}#{}", o.type, index);
+    if (const auto n = r.optional("name")) o.name = n->string();
+    if (const auto b = r.optional("two_sided")) o.two_sided = b->boolean();
+    if (const auto b = r.optional("flip")) o.flip = b->boolean();
+    if (const auto b = r.optional("triangulate")) o.triangulate = b->boolean();
+    validate_transform(r, o);
+    if (o.type == "polygon")
+        validate_polygon(r, o);
+    else if (o.type == "box")
+        validate_box(r, o);
+    else if (o.type == "sphere")
+        validate_sphere(r, o);
+    else if (o.type == "cylinder")
+        validate_cylinder(r, o);
+    else
+        validate_mesh(r, o, base_dir);
     return o;
 }
 
-Camera validate_camera(const Validator& v, const Json& j, int index) {
-    const std::string place = fmt::format("cameras[{}]", index);
-    auto at = [&](const char* key) { return place + "." + key; };
-    v.expect_object(j, place);
-    v.check_keys(j, place, {"name", "eye", "look_at", "up", "fov_y_deg"});
+Camera validate_camera(const Reader& r, int index) {
+    r.expect_object();
+    r.only_keys({"name", "eye", "look_at", "up", "fov_y_deg"});
     Camera c;
     c.name = fmt::format("camera#{}", index);
-    if (const Json* n = Validator::optional(j, "name")) c.name = v.string(*n, at("name"));
-    c.eye = v.vec3(v.required(j, place, "eye"), at("eye"));
-    c.look_at = v.vec3(v.required(j, place, "look_at"), at("look_at"));
-    if (const Json* u = Validator::optional(j, "up")) c.up = v.vec3(*u, at("up"));
-    c.fov_y_deg = v.number(v.required(j, place, "fov_y_deg"), at("fov_y_deg"));
+    if (const auto n = r.optional("name")) c.name = n->string();
+    c.eye = r.required("eye").vec3();
+    const Reader look_at = r.required("look_at");
+    c.look_at = look_at.vec3();
+    const auto up = r.optional("up");
+    if (up) c.up = up->vec3();
+    const Reader fov = r.required("fov_y_deg");
+    c.fov_y_deg = fov.number();
     if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180))
-        v.error(at("fov_y_deg"), fmt::format("must be in (0, 180) degrees (got {})", c.fov_y_deg));
+        fov.fail(fmt::format("must be in (0, 180) degrees (got {})", c.fov_y_deg));
     const Vec3 d = c.look_at - c.eye;
-    if (!(glm::length(d) > 0)) v.error(at("look_at"), "equals eye (no view direction)");
-    if (!(glm::length(c.up) > 0)) v.error(at("up"), "is the zero vector");
+    if (!(glm::length(d) > 0)) look_at.fail("equals eye (no view direction)");
+    // The default up is checked too; its messages name the key it stands for.
+    const Reader up_place = up ? *up : r;
+    const std::string up_what = up ? "" : "the default up [0,1,0] ";
+    if (!(glm::length(c.up) > 0)) up_place.fail(up_what + "is the zero vector");
     const double s = glm::length(glm::cross(glm::normalize(d), glm::normalize(c.up)));
-    if (!(s > 1e-6)) v.error(at("up"), "is parallel to the view direction (look_at - eye)");
+    if (!(s > 1e-6)) up_place.fail(up_what + "is parallel to the view direction (look_at - eye)");
     return c;
 }
 
-SceneDescription validate(const Json& root, const std::string& file, const std::string& base_dir) {
-    Validator v(file);
-    SceneDescription d;
-    v.expect_object(root, "(top level)");
-    v.check_keys(root, "", {"materials", "objects", "cameras", "settings"});
-
-    const Json& mats = v.required(root, "(top level)", "materials");
-    v.expect_object(mats, "materials");
-    for (const auto& [name, m] : mats.items()) {
-        if (name.empty()) v.error("materials", "empty material name");
-        d.materials.push_back(validate_material(v, name, m));
+std::vector<Material> validate_materials(const Reader& r) {
+    r.expect_object();
+    std::vector<Material> materials;
+    for (const auto& [name, m] : r.members()) {
+        if (name.empty()) r.fail("empty material name");
+        m.expect_object();
+        materials.push_back(validate_material(m, name));
     }
+    return materials;
+}
 
-    const Json& objs = v.required(root, "(top level)", "objects");
-    if (!objs.is_array())
-        v.error("objects", fmt::format("expected an array, got {}", Validator::describe(objs)));
-    if (objs.empty()) v.error("objects", "the scene has no objects");
-    for (size_t i = 0; i < objs.size(); ++i)
-        d.objects.push_back(
-            validate_object(v, objs[i], static_cast<int>(i), d.materials, base_dir));
-
-    if (const Json* cams = Validator::optional(root, "cameras")) {
-        if (!cams->is_array())
-            v.error("cameras",
-                    fmt::format("expected an array, got {}", Validator::describe(*cams)));
-        std::set<std::string> names;
-        for (size_t i = 0; i < cams->size(); ++i) {
-            d.cameras.push_back(validate_camera(v, (*cams)[i], static_cast<int>(i)));
-            if (!names.insert(d.cameras.back().name).second)
-                v.error(fmt::format("cameras[{}].name", i),
-                        fmt::format("duplicate camera name '{}'", d.cameras.back().name));
+std::vector<Camera> validate_cameras(const Reader& r) {
+    std::vector<Camera> cameras;
+    std::set<std::string> names;
+    const std::vector<Reader> list = r.elements();
+    for (size_t i = 0; i < list.size(); ++i) {
+        cameras.push_back(validate_camera(list[i], static_cast<int>(i)));
+        if (!names.insert(cameras.back().name).second) {
+            const auto name = list[i].optional("name");
+            (name ? *name : list[i])
+                .fail(fmt::format("duplicate camera name '{}'", cameras.back().name));
         }
     }
+    return cameras;
+}
 
-    if (const Json* s = Validator::optional(root, "settings")) {
-        v.expect_object(*s, "settings");
-        v.check_keys(*s, "settings", {"texel_size", "units"});
-        if (const Json* t = Validator::optional(*s, "texel_size"))
-            d.texel_size = v.positive(*t, "settings.texel_size");
-        if (const Json* u = Validator::optional(*s, "units"))
-            d.units = v.string(*u, "settings.units");
-    }
+void validate_settings(const Reader& r, SceneDescription& d) {
+    r.expect_object();
+    r.only_keys({"texel_size", "units"});
+    if (const auto t = r.optional("texel_size")) d.texel_size = t->positive();
+    if (const auto u = r.optional("units")) d.units = u->string();
+}
+
+SceneDescription validate(const Json& root, const std::string& file, const std::string& base_dir) {
+    const Reader r(root, file);
+    SceneDescription d;
+    r.expect_object();
+    r.only_keys({"$schema", "materials", "objects", "cameras", "settings"});
+    if (const auto schema = r.optional("$schema")) schema->string();  // for editors; ignored
+    d.materials = validate_materials(r.required("materials"));
+    std::vector<std::string> material_names;
+    for (const Material& m : d.materials) material_names.push_back(m.name);
+
+    const Reader objs = r.required("objects");
+    const std::vector<Reader> objects = objs.elements();
+    if (objects.empty()) objs.fail("the scene has no objects");
+    for (size_t i = 0; i < objects.size(); ++i)
+        d.objects.push_back(
+            validate_object(objects[i], static_cast<int>(i), material_names, base_dir));
+
+    if (const auto cams = r.optional("cameras")) d.cameras = validate_cameras(*cams);
+    if (const auto s = r.optional("settings")) validate_settings(*s, d);
 
     const bool any_emitter =
         std::any_of(d.objects.begin(), d.objects.end(),
                     [&](const ObjectDesc& o) { return d.materials[o.material].is_emitter(); });
-    if (!any_emitter) v.error("objects", "no emitter: no object uses a material with emission > 0");
+    if (!any_emitter) objs.fail("no emitter: no object uses a material with emission > 0");
     return d;
 }
 
@@ -656,15 +438,11 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
     fail(file, fmt::format("{} ({})", o.place, what), fmt::format("face {} {}", face, rest));
 }
 
-Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
-            const std::string& file, const LoadOptions& options) {
-    Scene scene;
-    scene.source = file;
-    scene.units = d.units;
-    scene.materials = d.materials;
-    scene.cameras = d.cameras;
-
-    // Shapes in user units, transformed.
+// Every object's shape in user units, transformed; `diameter` is the diagonal of their
+// bounding box.
+std::vector<std::vector<Polygon>> transformed_shapes(const SceneDescription& d,
+                                                     const std::vector<ImportedMesh>& meshes,
+                                                     double& diameter) {
     std::vector<std::vector<Polygon>> raw(d.objects.size());
     Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (size_t i = 0; i < d.objects.size(); ++i) {
@@ -677,39 +455,42 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
                 lo = glm::min(lo, x), hi = glm::max(hi, x);
             }
     }
-    const double diameter = glm::length(hi - lo);
-    if (!(diameter > 0) || !std::isfinite(diameter))
-        fail(file, "objects", "the scene's geometry has no extent");
-    const double tol = kRelativeTolerance * diameter;
+    diameter = glm::length(hi - lo);
+    return raw;
+}
 
-    // Checked convex planar faces per object, oriented, doubled when two-sided.
-    std::vector<std::vector<Polygon>> faces(d.objects.size());
-    for (size_t i = 0; i < d.objects.size(); ++i) {
-        const ObjectDesc& o = d.objects[i];
-        std::vector<Polygon>& out = faces[i];
-        for (size_t k = 0; k < raw[i].size(); ++k) {
-            const Polygon& p = raw[i][k];
-            if (o.triangulate) {
-                auto tris = triangulate_polygon(p, tol, tol);
-                if (!tris)
-                    face_error(file, o, k,
-                               "polygon cannot be triangulated (its outline crosses itself)");
-                out.insert(out.end(), tris->begin(), tris->end());
-            } else {
-                if (auto problem = polygon_problem(p, tol, tol)) face_error(file, o, k, *problem);
-                out.push_back(p);
-            }
-        }
-        if (o.flip)
-            for (Polygon& p : out) std::reverse(p.begin(), p.end());
-        if (o.two_sided) {
-            const size_t n = out.size();
-            for (size_t k = 0; k < n; ++k) out.emplace_back(out[k].rbegin(), out[k].rend());
+// An object's checked convex planar faces (triangulated when asked), oriented, doubled
+// when two-sided.
+std::vector<Polygon> checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw, double tol,
+                                   const std::string& file) {
+    std::vector<Polygon> out;
+    for (size_t k = 0; k < raw.size(); ++k) {
+        const Polygon& p = raw[k];
+        if (o.triangulate) {
+            auto tris = triangulate_polygon(p, tol, tol);
+            if (!tris)
+                face_error(file, o, k,
+                           "polygon cannot be triangulated (its outline crosses itself)");
+            out.insert(out.end(), tris->begin(), tris->end());
+        } else {
+            if (auto problem = polygon_problem(p, tol, tol)) face_error(file, o, k, *problem);
+            out.push_back(p);
         }
     }
+    if (o.flip)
+        for (Polygon& p : out) std::reverse(p.begin(), p.end());
+    if (o.two_sided) {
+        const size_t n = out.size();
+        for (size_t k = 0; k < n; ++k) out.emplace_back(out[k].rbegin(), out[k].rend());
+    }
+    return out;
+}
 
-    // Bounds of what is left, and the normalisation into the unit ball.
-    lo = Vec3(std::numeric_limits<double>::infinity()), hi = -lo;
+// The bounds of the faces and the normalisation into the unit ball; returns the half
+// diagonal of the bounds (user units).
+double normalise(Scene& scene, const std::vector<std::vector<Polygon>>& faces,
+                 const std::string& file) {
+    Vec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
     size_t face_total = 0;
     for (const auto& fs : faces)
         for (const Polygon& p : fs) {
@@ -722,8 +503,13 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     const double half_diagonal = 0.5 * glm::length(hi - lo);
     scene.normalisation.center = 0.5 * (lo + hi);
     scene.normalisation.scale = kNormalisedRadius / half_diagonal;
-
     scene.faces.reserve(face_total);
+    return half_diagonal;
+}
+
+// The objects and their faces in normalised coordinates, with planes, areas and twins.
+void add_objects(Scene& scene, const SceneDescription& d,
+                 const std::vector<std::vector<Polygon>>& faces) {
     for (size_t i = 0; i < d.objects.size(); ++i) {
         const ObjectDesc& o = d.objects[i];
         SceneObject so;
@@ -755,6 +541,27 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
             }
         }
     }
+}
+
+Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
+            const std::string& file, const LoadOptions& options) {
+    Scene scene;
+    scene.source = file;
+    scene.units = d.units;
+    scene.materials = d.materials;
+    scene.cameras = d.cameras;
+
+    double diameter = 0;
+    const std::vector<std::vector<Polygon>> raw = transformed_shapes(d, meshes, diameter);
+    if (!(diameter > 0) || !std::isfinite(diameter))
+        fail(file, "objects", "the scene's geometry has no extent");
+    const double tol = kRelativeTolerance * diameter;
+    std::vector<std::vector<Polygon>> faces(d.objects.size());
+    for (size_t i = 0; i < d.objects.size(); ++i)
+        faces[i] = checked_faces(d.objects[i], raw[i], tol, file);
+
+    const double half_diagonal = normalise(scene, faces, file);
+    add_objects(scene, d, faces);
     if (scene.emitter_count() == 0)
         fail(file, "objects", "no emitter: no face uses a material with emission > 0");
 
@@ -788,23 +595,48 @@ void check_options(const LoadOptions& options) {
 
 }  // namespace
 
-Scene load_scene_from_string(const std::string& json_text, const std::string& name,
-                             const std::string& base_dir, const LoadOptions& options) {
-    check_options(options);
-    const Json root = parse_json(json_text, name);
-    const SceneDescription desc = validate(root, name, base_dir);
+namespace {
+
+// The stages after parsing. The JSON reader throws vlf::Error; a scene's are SceneErrors.
+Scene load_tree(const Json& root, const std::string& name, const std::string& base_dir,
+                const LoadOptions& options) {
+    SceneDescription desc;
+    try {
+        desc = validate(root, name, base_dir);
+    } catch (const SceneError&) {
+        throw;
+    } catch (const Error& e) {
+        throw SceneError(e.what());
+    }
     const std::vector<ImportedMesh> meshes = load_resources(desc, name);
     return build(desc, meshes, name, options);
 }
 
+template <class Parse>
+Json parse_scene(Parse&& parse) {
+    try {
+        return parse();
+    } catch (const SceneError&) {
+        throw;
+    } catch (const Error& e) {
+        throw SceneError(e.what());
+    }
+}
+
+}  // namespace
+
+Scene load_scene_from_string(const std::string& json_text, const std::string& name,
+                             const std::string& base_dir, const LoadOptions& options) {
+    check_options(options);
+    const Json root = parse_scene([&] { return parse_json<Json>(json_text, name); });
+    return load_tree(root, name, base_dir, options);
+}
+
 Scene load_scene(const std::string& path, const LoadOptions& options) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw SceneError(fmt::format("{}: (file): cannot open the scene file", path));
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw SceneError(fmt::format("{}: (file): cannot read the scene file", path));
+    check_options(options);
+    const Json root = parse_scene([&] { return read_json_file<Json>(path); });
     const std::string base_dir = std::filesystem::path(path).parent_path().string();
-    return load_scene_from_string(text.str(), path, base_dir, options);
+    return load_tree(root, path, base_dir, options);
 }
 
 }  // namespace vlf

@@ -1,3 +1,4 @@
+// parameters.cpp — checking, writing and reading back the run parameters (parameters.hpp).
 #include "vlf/transport/parameters.hpp"
 
 #include <fmt/format.h>
@@ -5,6 +6,7 @@
 #include <cmath>
 
 #include "vlf/core/error.hpp"
+#include "vlf/core/json_reader.hpp"
 #include "vlf/field/psf.hpp"
 
 namespace vlf {
@@ -73,33 +75,48 @@ nlohmann::json to_json(const PropagateParams& p) {
     return j;
 }
 
-PropagateParams propagate_params_from_json(const nlohmann::json& j) {
+PropagateParams propagate_params_from_json(const JsonReader& r) {
+    r.only_keys({"directions",    "resolution",     "tile",         "tiles_per_side",
+                 "scheme",        "quality",        "texel_size",   "texel_divisions",
+                 "cycles",        "stop_unshot",    "threads",      "deferred",
+                 "perturbations", "perturb_cycles", "filter_sigma", "supersample",
+                 "resample",      "store_all_rays", "seed",         "cache_budget_mib"});
+    PropagateParams p;
+    p.field.directions = r.required("directions").integer();
+    p.field.resolution = r.required("resolution").integer();
+    p.field.tile = r.required("tile").integer();
+    const std::vector<DirectionScheme> schemes = {DirectionScheme::Octahedral,
+                                                  DirectionScheme::EqualArea};
+    std::vector<std::string> scheme_names;
+    for (DirectionScheme s : schemes) scheme_names.push_back(to_string(s));
+    p.field.scheme = schemes[r.required("scheme").one_of(scheme_names, "direction scheme")];
+    p.quality = r.required("quality").string();
+    p.texel_size = r.required("texel_size").number();
+    p.texel_divisions = r.required("texel_divisions").integer();
+    p.cycles = r.required("cycles").integer();
+    p.stop_unshot = r.required("stop_unshot").number();
+    p.threads = r.required("threads").integer();
+    p.deferred = r.required("deferred").boolean();
+    p.perturbations = r.required("perturbations").integer();
+    p.perturb_cycles = r.required("perturb_cycles").integer();
+    p.filter_sigma = r.required("filter_sigma").number();
+    p.supersample = r.required("supersample").integer();
+    p.resample = r.required("resample").boolean();
+    p.store_all_rays = r.required("store_all_rays").boolean();
+    p.seed = r.required("seed").unsigned64();
+    p.cache_budget_mib = r.required("cache_budget_mib").integer64();
     try {
-        PropagateParams p;
-        p.field.directions = j.at("directions").get<int>();
-        p.field.resolution = j.at("resolution").get<int>();
-        p.field.tile = j.at("tile").get<int>();
-        p.field.scheme = direction_scheme_from_string(j.at("scheme").get<std::string>());
-        p.quality = j.at("quality").get<std::string>();
-        p.texel_size = j.at("texel_size").get<double>();
-        p.texel_divisions = j.at("texel_divisions").get<int>();
-        p.cycles = j.at("cycles").get<int>();
-        p.stop_unshot = j.at("stop_unshot").get<double>();
-        p.threads = j.at("threads").get<int>();
-        p.deferred = j.at("deferred").get<bool>();
-        p.perturbations = j.at("perturbations").get<int>();
-        p.perturb_cycles = j.at("perturb_cycles").get<int>();
-        p.filter_sigma = j.at("filter_sigma").get<double>();
-        p.supersample = j.at("supersample").get<int>();
-        p.resample = j.at("resample").get<bool>();
-        p.store_all_rays = j.at("store_all_rays").get<bool>();
-        p.seed = j.at("seed").get<uint64_t>();
-        p.cache_budget_mib = j.at("cache_budget_mib").get<int64_t>();
         validate(p);
-        return p;
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(fmt::format("parameters: {}", e.what()));
+    } catch (const ParameterError& e) {
+        r.fail(e.what());
     }
+    if (const auto tiles = r.optional("tiles_per_side")) {
+        const int want = p.field.resolution / p.field.tile;
+        if (tiles->integer() != want)
+            tiles->fail(
+                fmt::format("must be resolution / tile = {} (got {})", want, tiles->json().dump()));
+    }
+    return p;
 }
 
 }  // namespace vlf

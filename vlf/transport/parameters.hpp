@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "vlf/core/json_reader.hpp"
 #include "vlf/field/field_params.hpp"
 
 namespace vlf {
@@ -42,6 +43,8 @@ struct PropagateParams {
 void validate(const PropagateParams& p);
 
 nlohmann::json to_json(const PropagateParams& p);
-PropagateParams propagate_params_from_json(const nlohmann::json& j);  // throws Error
+// Reads what to_json wrote (every key required, no others); values out of range are
+// refused as by validate(). Throws Error "<file>: <json.path>: <problem>".
+PropagateParams propagate_params_from_json(const JsonReader& r);
 
 }  // namespace vlf
