@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +16,7 @@
 #include "vlf/bake/bake.hpp"
 #include "vlf/core/cli_main.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/core/files.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
 #include "vlf/render/camera.hpp"
@@ -177,8 +177,7 @@ int run(const Options& o) {
                 o.output +
                 ": exists and is not a directory (--path writes frames into a directory)");
     } else if (!o.output.empty()) {
-        std::string ext = fs::path(o.output).extension().string();
-        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        const std::string ext = vlf::lower_extension(o.output);
         if (ext != ".exr" && ext != ".png")
             throw vlf::ParameterError("-o: " + o.output + ": unknown image extension '" + ext +
                                       "' (use .exr or .png)");
