@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "vlf/bake/bake.hpp"
+#include "vlf/render/image_io.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf::test {
@@ -52,6 +54,29 @@ inline Scene make_scene(const std::vector<std::vector<Vec3>>& polygons) {
         s.faces.push_back(f);
     }
     return s;
+}
+
+inline  // A bake holding only a scene (zero light maps, no rays): enough for the path tracer.
+    Bake
+    scene_only_bake(const Scene& scene) {
+    Bake b;
+    b.scene = scene;
+    b.texel_offset.assign(scene.faces.size() + 1, 0);
+    for (size_t f = 0; f < scene.faces.size(); ++f)
+        b.texel_offset[f + 1] = b.texel_offset[f] + size_t(scene.faces[f].texels.count());
+    b.lightmap_radiance.assign(b.texel_offset.back(), Rgb(0.0));
+    return b;
+}
+
+// A smooth test image with every pixel different.
+inline Image gradient(int w, int h) {
+    Image im;
+    im.width = w;
+    im.height = h;
+    im.pixels.resize(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) im.at(x, y) = Rgb(0.01 * x, 0.5 + y, 1000.0 / (1 + x + y));
+    return im;
 }
 
 }  // namespace vlf::test
