@@ -1,12 +1,10 @@
 #include "vlf/transport/transport.hpp"
 
-#include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <random>
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
@@ -106,7 +104,6 @@ namespace {
 
 struct GeometryInputs {
     const Scene& scene;
-    const TextureMaps& tex;
     const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
     double seal_gap;                                 // exchange.hpp kSealed
 };
@@ -209,8 +206,6 @@ void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int
 }
 
 }  // namespace
-
-using Geometry = DirectionGeometry;
 
 // Calls fn(tile, fragment, first slot) for the fragments [fb, fe) of a face, in tile order.
 template <class F>
@@ -388,7 +383,6 @@ void Transport::run_pass(int pass, double share) {
     const int N = Nc * s, m = mc * s;                                    // exchange grid
     const int l = static_cast<int>(rotations.size());
     const size_t nf = scene.faces.size();
-    const double ray_area = 4.0 / (double(N) * N);
 
     // Which faces send diffuse power this pass, how much, and their unshot exitance.
     std::vector<uint8_t> sends(nf, 0);
@@ -406,10 +400,10 @@ void Transport::run_pass(int pass, double share) {
             if (face.texel_area[t] > 0.0)
                 exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
     }
-    const GeometryInputs inputs{scene, m_tex, m_polygons, scene.seal_gap};
+    const GeometryInputs inputs{scene, m_polygons, scene.seal_gap};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
     // cycle (identical either way, so the budget never changes a map).
-    std::unique_ptr<Geometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
+    std::unique_ptr<DirectionGeometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
     // A perturbed pass's geometry is not worth keeping in the last cycle that perturbs.
     const bool reused = pass == 0 || cycles_done() + 1 < m_params.perturb_cycles;
     const int64_t budget = reused ? m_params.cache_budget_mib << 20 : 0;
@@ -429,11 +423,12 @@ void Transport::run_pass(int pass, double share) {
             for (int d = d0; d < d1; ++d) {
                 if (m_progress != nullptr) m_progress->advance();
                 const Mat3& rot = rotations[d];
-                const Geometry* gp = nullptr;
+                // 1. The direction's geometry: cached, or built (build_geometry).
+                const DirectionGeometry* gp = nullptr;
                 if (cache[d]) {
                     gp = cache[d].get();
                 } else {
-                    if (!w.local) w.local = std::make_unique<Geometry>();
+                    if (!w.local) w.local = std::make_unique<DirectionGeometry>();
                     build_geometry(inputs, rot, d, N, m, reused ? nullptr : sends.data(), *w.local,
                                    w.x, w.xs, res.rasterise, res.clipping, res.exchange);
                     gp = w.local.get();
@@ -442,24 +437,23 @@ void Transport::run_pass(int pass, double share) {
                         // the next direction, and the cache holds no slack.
                         const int64_t b = w.local->bytes();
                         if (m_cache_used.fetch_add(b) + b <= budget) {
-                            cache[d] = std::make_unique<Geometry>(*w.local);
+                            cache[d] = std::make_unique<DirectionGeometry>(*w.local);
                             gp = cache[d].get();
                         } else {
                             m_cache_used.fetch_sub(b);
                         }
                     }
                 }
-                const Geometry& g = *gp;
+                const DirectionGeometry& g = *gp;
                 const Psf& psf = g.psf;
                 const Vec3 omega = psf.omega;
-                const double beam = ray_area * m_dirs.solid_angle(d);  // a * Delta_d
+                const double beam = psf.ray_area() * m_dirs.solid_angle(d);  // a * Delta_d
                 const uint32_t S = g.tile_base.back();
                 w.out.assign(S, Rgb(0.0));
                 w.in.assign(S, Rgb(0.0));
-                auto t0 = Clock::now();
 
-                // 2. Senders load their rays.
-                t0 = Clock::now();
+                // 2. Senders load their rays (§4.4 eq. (3), §4.1 line 9).
+                auto t0 = Clock::now();
                 for (size_t f = 0; f < nf; ++f) {
                     const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
                     const Face& face = scene.faces[f];
@@ -470,7 +464,7 @@ void Transport::run_pass(int pass, double share) {
                         // A sliver with rays on the N x N grid but none on the finer exchange
                         // grid: its unshot specular light cannot leave; the ledger absorbs it.
                         if (spec_store && m_coverage[size_t(d) * nf + f] > 0) {
-                            const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
+                            const double beam_c = ray_area(Nc) * m_dirs.solid_angle(d);
                             const uint64_t mb = m_spec.begin(d, int(f));
                             for (uint64_t k = 0; k < m_spec.count(d, int(f)); ++k)
                                 res.lost.subpixel_mirror += Rgb(m_spec.unshot[mb + k]) * beam_c;
@@ -553,12 +547,6 @@ void Transport::run_pass(int pass, double share) {
                         const int cw = ci1 - ci0 + 1;
                         w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1),
                                               -1);
-                        for (const FaceFragment& ff : w.coarse.fragments)
-                            w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int k0) {
-                                static_cast<void>(k0);
-                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw +
-                                               (ff.s * mc + u - ci0)] = 0;
-                            });
                         {  // local indices in face-local order
                             int32_t k = 0;
                             for (const FaceFragment& ff : w.coarse.fragments)
@@ -572,7 +560,7 @@ void Transport::run_pass(int pass, double share) {
                             if (ci < 0 || cj < 0 || ci >= cw || cj > cj1 - cj0) return -1;
                             return w.coarse_index[size_t(cj) * cw + ci];
                         };
-                        const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
+                        const double beam_c = ray_area(Nc) * m_dirs.solid_angle(d);
                         Rgb scale(0.0);
                         if (spec_store) {
                             Rgb unshot(0.0), reach(0.0);
@@ -630,7 +618,7 @@ void Transport::run_pass(int pass, double share) {
                 }
                 res.transfer += since(t0);
 
-                // 4. Receivers.
+                // 4. Receivers (§4.1 line 10, §4.2-4.3).
                 t0 = Clock::now();
                 for (size_t f = 0; f < nf; ++f) {
                     const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
@@ -785,9 +773,9 @@ void Transport::run_cycle(bool last) {
         }
     }
     std::swap(m_spec.unshot, m_spec.unshot_next);
-    const double ray_area = 4.0 / (double(m_params.field.resolution) * m_params.field.resolution);
+    const double area = ray_area(m_params.field.resolution);
     for (int d = 0; d < m_dirs.size(); ++d) {
-        const double beam = ray_area * m_dirs.solid_angle(d);
+        const double beam = area * m_dirs.solid_angle(d);
         for (int f : m_spec.faces) {
             const uint64_t b = m_spec.begin(d, f), n = m_spec.count(d, f);
             for (uint64_t k = b; k < b + n; ++k) unshot += Rgb(m_spec.unshot[k]) * beam;
