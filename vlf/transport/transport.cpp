@@ -1,222 +1,27 @@
 #include "vlf/transport/transport.hpp"
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
 #include "vlf/core/rotation.hpp"
-#include "vlf/field/exchange.hpp"
-#include "vlf/field/psf.hpp"
 #include "vlf/transport/gaussian_filter.hpp"
 #include "vlf/transport/perturbation.hpp"
-#include "vlf/transport/specular.hpp"
-#include "vlf/transport/texel_clip.hpp"
+#include "vlf/transport/transport_internal.hpp"
 
 namespace vlf {
 
+using namespace transport_detail;
+
 namespace {
-
-// Directions are split into this many fixed chunks, independent of the thread count;
-// chunk accumulators are reduced in chunk order (determinism).
-constexpr int kChunks = 16;
-// Chunks processed (and their P^N accumulators alive) at a time; any value gives the same
-// sums, since the reduction is always in chunk order.
-constexpr int kWave = 4;
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 double luminance(const Rgb& c) {
     return (c.x + c.y + c.z) / 3.0;
 }
 
-struct Scratch {
-    std::vector<Rgb> out, in;
-    std::unique_ptr<DirectionGeometry> local;  // where a direction's geometry is built
-    TileExchange x;
-    ExchangeScratch xs;
-    FaceRaster coarse;  // super-sampling: the face on the N x N grid
-    std::vector<int32_t> coarse_index;
-    std::vector<Rgb> parent_sum;
-    std::vector<int> parent_count;
-};
-
-struct ChunkResult {
-    std::vector<Rgb> next;
-    Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
-    NumericalLoss lost;
-    std::vector<SpecularSource> sources;
-    double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
-    // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
-    void reset(size_t texels) {
-        next.assign(texels, Rgb(0.0));
-        absorbed = absorbed_back = escaped = Rgb(0.0);
-        lost = NumericalLoss{};
-        sources.clear();
-        rasterise = clipping = exchange = transfer = 0;
-    }
-};
-
 }  // namespace
-
-// Buffers that live as long as the transport: one Scratch per worker thread and the
-// chunk accumulators of a wave, reused by every pass of every cycle (their contents are
-// overwritten, so reuse never changes a result).
-struct Transport::Workspace {
-    tbb::enumerable_thread_specific<Scratch> scratch;
-    std::vector<ChunkResult> chunks;
-};
-
-// Everything of a direction that depends only on geometry: the PSF, the slots of its
-// rays, fragments grouped by face, the beam/texel overlaps (continuous clipping) and the
-// exchange partners. Built once per direction and, within the memory budget, kept for
-// all cycles (the paper spent 80-85 % of its time re-clipping these every cycle).
-struct DirectionGeometry {
-    Psf psf;
-    std::vector<uint32_t> tile_base;   // slots: tile_base[ti] + fragment.ray_offset + k
-    std::vector<uint32_t> face_begin;  // faces + 1, into frags
-    std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
-    std::vector<uint32_t> ov_begin;                    // slots + 1, into ov
-    std::vector<TexelOverlap> ov;
-    std::vector<int32_t> partner;  // per slot: partner slot, kEscaped or kBlocked
-    // Bytes of an exact-size copy (what the cache holds).
-    int64_t bytes() const {
-        int64_t b = static_cast<int64_t>(sizeof(DirectionGeometry));
-        for (const Tile& t : psf.tiles)
-            b += static_cast<int64_t>(sizeof(Tile) + t.fragments.size() * sizeof(Fragment) +
-                                      t.spans.size() * sizeof(Span));
-        b += static_cast<int64_t>(
-            (tile_base.size() + face_begin.size() + ov_begin.size()) * sizeof(uint32_t) +
-            frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
-            partner.size() * sizeof(int32_t) + psf.tile_of.size() * sizeof(int32_t));
-        return b;
-    }
-};
-
-namespace {
-
-struct GeometryInputs {
-    const Scene& scene;
-    const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
-    double seal_gap;                                 // exchange.hpp kSealed
-};
-
-void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
-                    const uint8_t* sending, DirectionGeometry& g, TileExchange& x,
-                    ExchangeScratch& xs, double& t_raster, double& t_clip, double& t_exchange) {
-    const Scene& scene = in.scene;
-    const size_t nf = scene.faces.size();
-    auto t0 = Clock::now();
-    g.psf = rasterise_psf(scene, rot, d, N, m);
-    const Psf& psf = g.psf;
-    g.tile_base.resize(psf.tiles.size() + 1);
-    g.tile_base[0] = 0;
-    for (size_t ti = 0; ti < psf.tiles.size(); ++ti)
-        g.tile_base[ti + 1] = g.tile_base[ti] + psf.tiles[ti].covered;
-    const uint32_t S = g.tile_base.back();
-    g.face_begin.assign(nf + 1, 0);
-    for (const Tile& t : psf.tiles)
-        for (const Fragment& f : t.fragments) ++g.face_begin[f.face + 1];
-    for (size_t f = 0; f < nf; ++f) g.face_begin[f + 1] += g.face_begin[f];
-    g.frags.resize(g.face_begin[nf]);
-    {
-        std::vector<uint32_t> cur(g.face_begin.begin(), g.face_begin.end() - 1);
-        for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti)
-            for (uint32_t fi = 0; fi < psf.tiles[ti].fragments.size(); ++fi)
-                g.frags[cur[psf.tiles[ti].fragments[fi].face]++] = {ti, fi};
-    }
-    t_raster += since(t0);
-
-    // Exchange partners of every ray (§4.1 exchange buffers), as slots.
-    t0 = Clock::now();
-    g.partner.assign(S, kEscaped);
-    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-        const Tile& tile = psf.tiles[ti];
-        // A ray shut within the scene's seal gap (a texel) by the back of another
-        // surface is sealed: diffuse senders leave it out (exchange.hpp).
-        build_exchange(scene, psf, tile, x, xs, in.seal_gap);
-        const uint32_t tb = g.tile_base[ti];
-        for (const Fragment& fr : tile.fragments)
-            for (uint32_t k = 0; k < fr.covered; ++k) {
-                const int32_t p = x.partner[fr.ray_offset + k];
-                g.partner[tb + fr.ray_offset + k] =
-                    p >= 0 ? static_cast<int32_t>(tb + tile.fragments[p].ray_offset +
-                                                  x.partner_ray[fr.ray_offset + k])
-                           : p;
-            }
-    }
-    t_exchange += since(t0);
-
-    // Clip the beams of faces that can hold diffuse power against their texel grids. Given
-    // `sending` (a pass whose geometry is used once), only the rays that carry power this
-    // pass: those of the sending faces and their partners; the rest get no overlaps.
-    t0 = Clock::now();
-    std::vector<uint8_t> needed;
-    if (sending != nullptr) {
-        needed.assign(S, 0);
-        for (size_t f = 0; f < nf; ++f) {
-            if (!sending[f]) continue;
-            for (uint32_t q = g.face_begin[f]; q < g.face_begin[f + 1]; ++q) {
-                const auto [ti, fi] = g.frags[q];
-                const uint32_t base = g.tile_base[ti] + psf.tiles[ti].fragments[fi].ray_offset;
-                for (uint32_t k = 0; k < psf.tiles[ti].fragments[fi].covered; ++k) {
-                    needed[base + k] = 1;
-                    if (g.partner[base + k] >= 0) needed[g.partner[base + k]] = 1;
-                }
-            }
-        }
-    }
-    g.ov_begin.assign(S + 1, 0);
-    g.ov.clear();
-    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-        const Tile& tile = psf.tiles[ti];
-        for (const Fragment& fr : tile.fragments) {
-            const Face& face = scene.faces[fr.face];
-            const Material& mat = scene.material_of(face);
-            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
-            if (!mat.is_diffuse() && !mat.is_emitter()) {
-                for (uint32_t k = 0; k < fr.covered; ++k)
-                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-                continue;
-            }
-            const PsfToTexel map = psf_to_texel(face, rot);
-            const std::vector<Vec2>& poly = in.polygons[fr.face];
-            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                if (!needed.empty() && !needed[base + k]) {
-                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-                    return;
-                }
-                // The beam's footprint on the face itself: the part of the pixel's
-                // parallelogram inside the polygon, sliced by the texel grid (area-exact at
-                // the rim, docs/propagation.md §3).
-                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, poly,
-                                     face.texels.width, face.texels.height, g.ov);
-                g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-            });
-        }
-    }
-    t_clip += since(t0);
-}
-
-}  // namespace
-
-// Calls fn(tile, fragment, first slot) for the fragments [fb, fe) of a face, in tile order.
-template <class F>
-void for_fragments(const DirectionGeometry& g, uint32_t fb, uint32_t fe, F&& fn) {
-    for (uint32_t q = fb; q < fe; ++q) {
-        const auto [ti, fi] = g.frags[q];
-        const Tile& tile = g.psf.tiles[ti];
-        const Fragment& fr = tile.fragments[fi];
-        fn(tile, fr, g.tile_base[ti] + fr.ray_offset);
-    }
-}
 
 std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
                                        int N, int m) {
@@ -311,19 +116,6 @@ int64_t Transport::work(int cycles) const {
     return passes * m_dirs.size();
 }
 
-int Transport::cached_directions() const {
-    int n = 0;
-    for (const auto& g : m_cache) n += g != nullptr;
-    return n;
-}
-
-int64_t Transport::geometry_cache_bytes() const {
-    int64_t b = 0;
-    for (const auto& g : m_cache)
-        if (g) b += g->bytes();
-    return b;
-}
-
 double Transport::to_user_power() const {
     const double s = m_scene.normalisation.scale;
     return 1.0 / (s * s);
@@ -400,13 +192,20 @@ void Transport::run_pass(int pass, double share) {
             if (face.texel_area[t] > 0.0)
                 exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
     }
-    const GeometryInputs inputs{scene, m_polygons, scene.seal_gap};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
-    // cycle (identical either way, so the budget never changes a map).
-    std::unique_ptr<DirectionGeometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
-    // A perturbed pass's geometry is not worth keeping in the last cycle that perturbs.
+    // cycle (identical either way, so the budget never changes a map). A perturbed pass's
+    // geometry is not worth keeping in the last cycle that perturbs: it clips only the rays
+    // that carry power in this pass.
     const bool reused = pass == 0 || cycles_done() + 1 < m_params.perturb_cycles;
-    const int64_t budget = reused ? m_params.cache_budget_mib << 20 : 0;
+    const GeometryInputs inputs{.scene = scene,
+                                .polygons = m_polygons,
+                                .seal_gap = scene.seal_gap,
+                                .N = N,
+                                .m = m,
+                                .sending = reused ? nullptr : sends.data()};
+    const GeometryCache cache{.slots = m_cache.data() + size_t(pass) * size_t(l),
+                              .used = m_cache_used,
+                              .budget = reused ? m_params.cache_budget_mib << 20 : 0};
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
@@ -423,28 +222,9 @@ void Transport::run_pass(int pass, double share) {
             for (int d = d0; d < d1; ++d) {
                 if (m_progress != nullptr) m_progress->advance();
                 const Mat3& rot = rotations[d];
-                // 1. The direction's geometry: cached, or built (build_geometry).
-                const DirectionGeometry* gp = nullptr;
-                if (cache[d]) {
-                    gp = cache[d].get();
-                } else {
-                    if (!w.local) w.local = std::make_unique<DirectionGeometry>();
-                    build_geometry(inputs, rot, d, N, m, reused ? nullptr : sends.data(), *w.local,
-                                   w.x, w.xs, res.rasterise, res.clipping, res.exchange);
-                    gp = w.local.get();
-                    if (budget > 0) {
-                        // Kept as an exact-size copy: the scratch keeps its grown capacity for
-                        // the next direction, and the cache holds no slack.
-                        const int64_t b = w.local->bytes();
-                        if (m_cache_used.fetch_add(b) + b <= budget) {
-                            cache[d] = std::make_unique<DirectionGeometry>(*w.local);
-                            gp = cache[d].get();
-                        } else {
-                            m_cache_used.fetch_sub(b);
-                        }
-                    }
-                }
-                const DirectionGeometry& g = *gp;
+                // 1. The direction's geometry: PSF, partners, overlaps (§3, §4.1, §4.2).
+                const DirectionGeometry& g =
+                    direction_geometry(inputs, cache, rot, d, w, res.times);
                 const Psf& psf = g.psf;
                 const Vec3 omega = psf.omega;
                 const double beam = psf.ray_area() * m_dirs.solid_angle(d);  // a * Delta_d
@@ -616,7 +396,7 @@ void Transport::run_pass(int pass, double share) {
                         res.absorbed_back += w.out[slot];  // a one-sided face's black back
                     }
                 }
-                res.transfer += since(t0);
+                res.times.transfer += since(t0);
 
                 // 4. Receivers (§4.1 line 10, §4.2-4.3).
                 t0 = Clock::now();
@@ -695,7 +475,7 @@ void Transport::run_pass(int pass, double share) {
                         res.sources.push_back(std::move(src));
                     }
                 }
-                res.transfer += since(t0);
+                res.times.transfer += since(t0);
             }
         });
 
@@ -708,10 +488,10 @@ void Transport::run_pass(int pass, double share) {
             m_running.escaped += c.escaped;
             m_running.absorbed_back += c.absorbed_back;
             m_running.lost += c.lost;
-            m_timings.rasterise += c.rasterise;
-            m_timings.clipping += c.clipping;
-            m_timings.exchange += c.exchange;
-            m_timings.transfer += c.transfer;
+            m_timings.rasterise += c.times.rasterise;
+            m_timings.clipping += c.times.clipping;
+            m_timings.exchange += c.times.exchange;
+            m_timings.transfer += c.times.transfer;
             for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
         }
     }
@@ -720,15 +500,6 @@ void Transport::run_pass(int pass, double share) {
     if (!sources.empty())
         m_running.lost.rounding += gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
     m_timings.specular += since(t0);
-}
-
-void Transport::release_perturbed_geometry() {
-    const size_t l = size_t(m_dirs.size());
-    for (size_t k = l; k < m_cache.size(); ++k)
-        if (m_cache[k]) {
-            m_cache_used.fetch_sub(m_cache[k]->bytes());
-            m_cache[k].reset();
-        }
 }
 
 void Transport::fold_unshot_into_total() {

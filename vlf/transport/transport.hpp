@@ -44,7 +44,7 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
                                      const std::vector<Mat3>& rotations,
                                      const std::vector<uint32_t>& coverage);
 
-struct DirectionGeometry;  // per-direction PSF, overlaps and exchange partners (transport.cpp)
+struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
 
 // Wall-clock seconds of each phase of the propagation (they add up to the transport's
 // wall time), and the CPU seconds, summed over worker threads, inside the passes.
