@@ -45,6 +45,7 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
                                      const std::vector<uint32_t>& coverage);
 
 struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
+struct SpecularSource;
 
 // Wall-clock seconds of each phase of the propagation (they add up to the transport's
 // wall time), and the CPU seconds, summed over worker threads, inside the passes.
@@ -103,6 +104,8 @@ class Transport {
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
+    // Adds the first `count` chunk accumulators of the workspace, in chunk order.
+    void reduce_chunks(int count, std::vector<SpecularSource>& sources);
     // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
     void release_perturbed_geometry();
 

@@ -1,6 +1,7 @@
 // transport_internal.hpp — what the transport's own files share, and nothing else
 // includes: a direction's geometry and the pass's cache of it (geometry_cache.cpp), the
-// worker scratch and the chunk accumulators of a pass (transport.cpp).
+// worker scratch and chunk accumulators, and the steps one pass runs for each direction
+// (send_step.cpp, receive_step.cpp), driven by Transport::run_pass (transport.cpp).
 #pragma once
 
 #include <tbb/enumerable_thread_specific.h>
@@ -123,6 +124,50 @@ struct GeometryCache {
 // kept in the cache while it fits the budget).
 const DirectionGeometry& direction_geometry(const GeometryInputs& in, const GeometryCache& cache,
                                             const Mat3& rot, int d, Scratch& w, StepTimes& times);
+
+// Which faces send diffuse power in a pass, and what they send.
+struct Senders {
+    std::vector<uint8_t> sends;    // per face
+    std::vector<Rgb> face_unshot;  // per face: its unshot power U (zero if it does not send)
+    std::vector<Rgb> exitance;     // per texel: unshot exitance of the sending faces
+};
+Senders find_senders(const Scene& scene, const TextureMaps& tex,
+                     const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm);
+
+// What every step of one pass reads, and the radiance maps its senders write.
+struct PassContext {
+    const Scene& scene;
+    const DirectionSet& dirs;
+    const std::vector<uint32_t>& coverage;  // d * faces + f, on the N x N grid
+    const TextureMaps& tex;
+    RadianceMaps& spec;                    // L_U, L_T of specular faces
+    RadianceMaps& other;                   // L_T of the other faces (--store-all-rays)
+    const std::vector<Mat3>& rotations;    // per direction of the pass
+    const std::vector<double>& send_norm;  // per face
+    const Senders& senders;
+    double share;          // 1 / the passes of the cycle: what each pass sends of a share
+    bool true_directions;  // pass 0: radiance maps are read and written
+    int s;                 // super-sampling
+    int Nc, mc;            // the radiance-map grid
+    int N, m;              // the exchange grid, s times finer
+};
+
+// One direction of a pass, as its steps see it.
+struct PassDirection {
+    int d;
+    const DirectionGeometry& g;
+    double beam;  // a * Delta_d: a ray's cross-section times the direction's solid angle
+};
+
+// The steps of a pass for one direction, run in this order; power moves from step to step
+// in w.out (per slot: sent along the ray) and w.in (per slot: arriving on it).
+// VLF §4.4 eq. (3), §4.1 line 9 (send_step.cpp): the senders load w.out.
+void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res);
+// VLF §4.1 lines 5-8 (receive_step.cpp): w.out along each ray to its partner's w.in.
+void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res);
+// VLF §4.1 line 10, §4.2-4.3 (receive_step.cpp): the receivers take w.in.
+void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
+                  ChunkResult& res);
 
 }  // namespace transport_detail
 
