@@ -1,13 +1,14 @@
+// transport.cpp — the propagation cycles (VLF §4.1) and the passes inside them: a pass
+// runs every direction through the steps send, exchange, receive (transport_internal.hpp)
+// in fixed chunks of directions, and reduces the chunks' sums in chunk order; a cycle then
+// pools, filters and swaps the maps and books the ledger.
 #include "vlf/transport/transport.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
-#include "vlf/core/rotation.hpp"
 #include "vlf/transport/gaussian_filter.hpp"
-#include "vlf/transport/perturbation.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
 namespace vlf {
@@ -15,10 +16,6 @@ namespace vlf {
 using namespace transport_detail;
 
 namespace {
-
-double luminance(const Rgb& c) {
-    return (c.x + c.y + c.z) / 3.0;
-}
 
 // One direction of a pass: its geometry, then the steps of VLF §4.1 along its rays.
 void run_direction(const PassContext& pc, const GeometryInputs& in, const GeometryCache& cache,
@@ -37,93 +34,6 @@ void run_direction(const PassContext& pc, const GeometryInputs& in, const Geomet
 }
 
 }  // namespace
-
-std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
-                                       int N, int m) {
-    const size_t nf = scene.faces.size();
-    std::vector<uint32_t> cov(rotations.size() * nf, 0);
-    parallel_for(0, static_cast<long>(rotations.size()), [&](long d) {
-        FaceRaster fr;
-        for (size_t f = 0; f < nf; ++f) {
-            rasterise_face(scene.faces[f], rotations[d], N, m, fr);
-            cov[size_t(d) * nf + f] = fr.covered;
-        }
-    });
-    return cov;
-}
-
-// Sum over the directions a face has rays in of |n . omega_d| * Delta_d: the denominator
-// of the diffuse share (VLF §4.4 eq. (3), the "total projected unit area", corrected for
-// unequal solid angles — §5). Restricting it to covered directions makes the shares of
-// every face sum to exactly 1.
-std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
-                                     const std::vector<Mat3>& rotations,
-                                     const std::vector<uint32_t>& coverage) {
-    const size_t nf = scene.faces.size();
-    std::vector<double> norm(nf, 0.0);
-    for (size_t f = 0; f < nf; ++f)
-        for (int d = 0; d < dirs.size(); ++d)
-            if (coverage[size_t(d) * nf + f] > 0)
-                norm[f] += std::abs((rotations[d] * scene.faces[f].normal).z) * dirs.solid_angle(d);
-    return norm;
-}
-
-Transport::Transport(const Scene& scene, const PropagateParams& params)
-    : m_scene(scene), m_params(params), m_dirs(params.field.directions, params.field.scheme) {
-    validate(params);
-    const auto t0 = Clock::now();
-    const int l = m_dirs.size();
-    m_rot.resize(l);
-    for (int d = 0; d < l; ++d) m_rot[d] = rotation_to_z(m_dirs.direction(d));
-    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile);
-    // Super-sampled exchange (§5): every pass runs on an s-times finer ray grid; the
-    // directional radiance maps stay on the N x N grid.
-    const int s = params.supersample;
-    const int P = params.perturbations;
-    m_passes.resize(size_t(P) + 1);
-    for (int p = 0; p <= P; ++p) {
-        Pass& pass = m_passes[p];
-        if (p == 0) {
-            pass.rotations = m_rot;
-        } else {
-            // VLF §5: the whole direction set rotated by a stratified random rotation
-            // inside the mean solid angle (one set per run, perturbation.hpp).
-            const Mat3 r = perturbation_rotation(m_dirs, params.seed, p, P);
-            pass.rotations.resize(l);
-            for (int d = 0; d < l; ++d) pass.rotations[d] = rotation_to_z(r * m_dirs.direction(d));
-        }
-        pass.send_norm = p == 0 && s == 1
-                             ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
-                             : send_normalisers(scene, m_dirs, pass.rotations,
-                                                measure_coverage(scene, pass.rotations,
-                                                                 params.field.resolution * s,
-                                                                 params.field.tile * s));
-    }
-    m_tex = TextureMaps(scene);
-
-    const size_t nf = scene.faces.size();
-    std::vector<bool> spec(nf), other(nf);
-    double area = 0.0, refl = 0.0;
-    for (size_t f = 0; f < nf; ++f) {
-        const Material& mat = scene.material_of(scene.faces[f]);
-        spec[f] = mat.is_specular();
-        other[f] = params.store_all_rays && !spec[f];
-        area += scene.faces[f].area;
-        refl += scene.faces[f].area * luminance(mat.diffuse + mat.specular);
-    }
-    m_spec = RadianceMaps(scene, spec, l, m_coverage, true);
-    m_other = RadianceMaps(scene, other, l, m_coverage, false);
-    m_mean_reflectance = area > 0 ? refl / area : 0.0;  // VLF §4.5 eq. (4)
-    m_deferred.assign(nf, 0);
-    m_polygons.resize(nf);
-    for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
-    m_pools = build_rim_pools(scene, m_tex);
-    m_cache.resize(static_cast<size_t>(l) * m_passes.size());
-    m_work = std::make_unique<Workspace>();
-    m_timings.setup = since(t0);
-}
-
-Transport::~Transport() = default;
 
 int64_t Transport::work(int cycles) const {
     const int perturbed = std::min(cycles, m_params.perturb_cycles);
@@ -289,6 +199,23 @@ void Transport::run_cycle(bool last) {
     m_timings.filter += since(t0);
     t0 = Clock::now();
     Rgb unshot(0.0), deferred(0.0);
+    swap_maps(unshot, deferred);
+    const double u = to_user_power();
+    e.emitted = m_running.emitted * u;
+    e.absorbed = m_running.absorbed * u;
+    e.escaped = m_running.escaped * u;
+    e.absorbed_back = m_running.absorbed_back * u;
+    e.lost = m_running.lost * u;
+    e.unshot = unshot * u;
+    e.deferred = deferred * u;
+    m_ledger.push_back(e);
+    m_timings.bookkeeping += since(t0);
+}
+
+// VLF §4.1 closing lines: P^T += P^N; P^C <- P^N, or += P^N for deferred faces (§4.5);
+// L_U <- L_U next. Adds the power left unshot to `unshot` (texels, then mirrors' rays)
+// and the power deferred faces hold to `deferred`.
+void Transport::swap_maps(Rgb& unshot, Rgb& deferred) {
     for (const Face& f : m_scene.faces) {
         const size_t b = m_tex.begin(f.id), n = m_tex.count(f.id);
         for (size_t t = b; t < b + n; ++t) {
@@ -312,16 +239,6 @@ void Transport::run_cycle(bool last) {
             for (uint64_t k = b; k < b + n; ++k) unshot += Rgb(m_spec.unshot[k]) * beam;
         }
     }
-    const double u = to_user_power();
-    e.emitted = m_running.emitted * u;
-    e.absorbed = m_running.absorbed * u;
-    e.escaped = m_running.escaped * u;
-    e.absorbed_back = m_running.absorbed_back * u;
-    e.lost = m_running.lost * u;
-    e.unshot = unshot * u;
-    e.deferred = deferred * u;
-    m_ledger.push_back(e);
-    m_timings.bookkeeping += since(t0);
 }
 
 }  // namespace vlf

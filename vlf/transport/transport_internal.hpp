@@ -63,6 +63,11 @@ inline constexpr int kChunks = 16;
 // sums, since the reduction is always in chunk order.
 inline constexpr int kWave = 4;
 
+// The mean of the three channels.
+inline double luminance(const Rgb& c) {
+    return (c.x + c.y + c.z) / 3.0;
+}
+
 using Clock = std::chrono::steady_clock;
 inline double since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
