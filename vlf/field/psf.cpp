@@ -97,37 +97,27 @@ Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int r
     return psf;
 }
 
-void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
-                    FaceRaster& out) {
-    const int N = resolution, m = tile_size, n = N / m;
-    out.fragments.clear();
-    out.spans.clear();
-    out.covered = 0;
-    out.facing = 0;
-    const Vec3 nr = rotation * face.normal;
-    if (std::abs(nr.z) < 1e-12) return;  // edge-on: covers no ray
-    out.facing = nr.z > 0 ? 1 : -1;
+namespace {
 
-    thread_local std::vector<Vec2> proj;
-    thread_local std::vector<int> row_i0, row_i1;
+// The face's vertices projected along +z of the rotated frame; their y range in ymin, ymax.
+void project_face(const Face& face, const Mat3& rotation, std::vector<Vec2>& proj, double& ymin,
+                  double& ymax) {
     proj.clear();
-    row_i0.resize(N);
-    row_i1.resize(N);
-    double ymin = 1e300, ymax = -1e300;
     for (const Vec3& v : face.vertices) {
         const Vec3 p = rotation * v;
         proj.emplace_back(p.x, p.y);
         ymin = std::min(ymin, p.y);
         ymax = std::max(ymax, p.y);
     }
-    const int jlo = first_centre_at_or_after(ymin, N);
-    const int jhi = first_centre_at_or_after(ymax, N);  // exclusive
-    if (jlo >= jhi) return;
+}
 
-    // Spans per row. An edge crosses row y when lo.y <= y < hi.y, with (lo, hi) its
-    // endpoints in a canonical order, so a shared edge yields the identical x from both of
-    // its polygons: one takes it as an inclusive left end, the other as an exclusive right
-    // end, and no ray is lost or counted twice.
+// Spans per row: the rays [row_i0[j], row_i1[j]) of each row j in [jlo, jhi) whose
+// centres the polygon `proj` covers. An edge crosses row y when lo.y <= y < hi.y, with
+// (lo, hi) its endpoints in a canonical order, so a shared edge yields the identical x from
+// both of its polygons: one takes it as an inclusive left end, the other as an exclusive
+// right end, and no ray is lost or counted twice.
+void row_spans(const std::vector<Vec2>& proj, int N, int jlo, int jhi, std::vector<int>& row_i0,
+               std::vector<int>& row_i1) {
     const size_t nv = proj.size();
     for (int j = jlo; j < jhi; ++j) {
         const double y = (2.0 * j + 1.0) / N - 1.0;
@@ -149,48 +139,86 @@ void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int 
         row_i0[j] = first_centre_at_or_after(xl, N);
         row_i1[j] = first_centre_at_or_after(xr, N);
     }
+}
 
-    // Cut the rows into tiles: one fragment per tile the polygon touches, row-major.
-    for (int tr = jlo / m; tr <= (jhi - 1) / m; ++tr) {
-        const int r0 = std::max(jlo, tr * m), r1 = std::min(jhi, tr * m + m);
-        int smin = n, smax = -1;
-        for (int j = r0; j < r1; ++j) {
-            if (row_i1[j] <= row_i0[j]) continue;
-            smin = std::min(smin, row_i0[j] / m);
-            smax = std::max(smax, (row_i1[j] - 1) / m);
+// The fragment of tile (s, tr): the rows [first, last] within the tile's columns
+// [s m, s m + m), its edge table appended to out.
+void add_fragment(const std::vector<int>& row_i0, const std::vector<int>& row_i1, int s, int tr,
+                  int m, int first, int last, FaceRaster& out) {
+    const int c0 = s * m, c1 = c0 + m;
+    FaceFragment frag;
+    frag.s = static_cast<uint16_t>(s);
+    frag.t = static_cast<uint16_t>(tr);
+    frag.row_begin = static_cast<uint16_t>(first - tr * m);
+    frag.rows = static_cast<uint16_t>(last - first + 1);
+    frag.span_offset = static_cast<uint32_t>(out.spans.size());
+    uint32_t covered = 0;
+    for (int j = first; j <= last; ++j) {
+        const int b = std::max(row_i0[j], c0), e = std::min(row_i1[j], c1);
+        Span span;
+        if (b < e) {
+            span.begin = static_cast<uint16_t>(b - c0);
+            span.end = static_cast<uint16_t>(e - c0);
+            covered += static_cast<uint32_t>(e - b);
         }
-        for (int s = smin; s <= smax; ++s) {
-            const int c0 = s * m, c1 = c0 + m;
-            int first = -1, last = -1;
-            for (int j = r0; j < r1; ++j) {
-                if (std::max(row_i0[j], c0) < std::min(row_i1[j], c1)) {
-                    if (first < 0) first = j;
-                    last = j;
-                }
-            }
-            if (first < 0) continue;
-            FaceFragment frag;
-            frag.s = static_cast<uint16_t>(s);
-            frag.t = static_cast<uint16_t>(tr);
-            frag.row_begin = static_cast<uint16_t>(first - tr * m);
-            frag.rows = static_cast<uint16_t>(last - first + 1);
-            frag.span_offset = static_cast<uint32_t>(out.spans.size());
-            uint32_t covered = 0;
-            for (int j = first; j <= last; ++j) {
-                const int b = std::max(row_i0[j], c0), e = std::min(row_i1[j], c1);
-                Span span;
-                if (b < e) {
-                    span.begin = static_cast<uint16_t>(b - c0);
-                    span.end = static_cast<uint16_t>(e - c0);
-                    covered += static_cast<uint32_t>(e - b);
-                }
-                out.spans.push_back(span);
-            }
-            frag.covered = covered;
-            out.covered += covered;
-            out.fragments.push_back(frag);
-        }
+        out.spans.push_back(span);
     }
+    frag.covered = covered;
+    out.covered += covered;
+    out.fragments.push_back(frag);
+}
+
+// Cuts the rows [r0, r1) of tile row tr into fragments: one per tile the polygon touches,
+// left to right.
+void cut_tile_row(const std::vector<int>& row_i0, const std::vector<int>& row_i1, int n, int m,
+                  int tr, int r0, int r1, FaceRaster& out) {
+    int smin = n, smax = -1;
+    for (int j = r0; j < r1; ++j) {
+        if (row_i1[j] <= row_i0[j]) continue;
+        smin = std::min(smin, row_i0[j] / m);
+        smax = std::max(smax, (row_i1[j] - 1) / m);
+    }
+    for (int s = smin; s <= smax; ++s) {
+        const int c0 = s * m, c1 = c0 + m;
+        int first = -1, last = -1;
+        for (int j = r0; j < r1; ++j) {
+            if (std::max(row_i0[j], c0) < std::min(row_i1[j], c1)) {
+                if (first < 0) first = j;
+                last = j;
+            }
+        }
+        if (first >= 0) add_fragment(row_i0, row_i1, s, tr, m, first, last, out);
+    }
+}
+
+}  // namespace
+
+void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
+                    FaceRaster& out) {
+    const int N = resolution, m = tile_size, n = N / m;
+    out.fragments.clear();
+    out.spans.clear();
+    out.covered = 0;
+    out.facing = 0;
+    const Vec3 nr = rotation * face.normal;
+    if (std::abs(nr.z) < 1e-12) return;  // edge-on: covers no ray
+    out.facing = nr.z > 0 ? 1 : -1;
+
+    thread_local std::vector<Vec2> proj;
+    thread_local std::vector<int> row_i0, row_i1;
+    row_i0.resize(N);
+    row_i1.resize(N);
+    double ymin = 1e300, ymax = -1e300;
+    project_face(face, rotation, proj, ymin, ymax);
+    const int jlo = first_centre_at_or_after(ymin, N);
+    const int jhi = first_centre_at_or_after(ymax, N);  // exclusive
+    if (jlo >= jhi) return;
+
+    row_spans(proj, N, jlo, jhi, row_i0, row_i1);
+    // Cut the rows into tiles, row-major.
+    for (int tr = jlo / m; tr <= (jhi - 1) / m; ++tr)
+        cut_tile_row(row_i0, row_i1, n, m, tr, std::max(jlo, tr * m), std::min(jhi, tr * m + m),
+                     out);
 }
 
 PsfMemory memory_of(const Psf& psf) {

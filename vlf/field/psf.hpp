@@ -44,6 +44,12 @@ struct Tile {
     }
 };
 
+// Area of one pixel of an N x N ray grid over [-1,1]^2, (2/N)^2: the beam cross-section a
+// of DESIGN §5.
+inline double ray_area(int resolution) {
+    return 4.0 / (double(resolution) * resolution);
+}
+
 struct Psf {
     int direction = -1;   // index into the direction set (or -1 for a free direction)
     Vec3 omega{0, 0, 1};  // the direction, scene frame
@@ -58,7 +64,7 @@ struct Psf {
     double ray_x(int i) const { return (2.0 * i + 1.0) / resolution - 1.0; }
     double ray_y(int j) const { return (2.0 * j + 1.0) / resolution - 1.0; }
     // Area of one pixel, (2/N)^2: the beam cross-section a of DESIGN §5.
-    double ray_area() const { return 4.0 / (double(resolution) * resolution); }
+    double ray_area() const { return vlf::ray_area(resolution); }
 };
 
 // Depth (rotated z) of the face's plane on the ray through (x, y) of the rotated frame.

@@ -1,332 +1,44 @@
+// transport.cpp — the propagation cycles (VLF §4.1) and the passes inside them: a pass
+// runs every direction through the steps send, exchange, receive (transport_internal.hpp)
+// in fixed chunks of directions, and reduces the chunks' sums in chunk order; a cycle then
+// pools, filters and swaps the maps and books the ledger.
 #include "vlf/transport/transport.hpp"
 
-#include <fmt/format.h>
-#include <tbb/enumerable_thread_specific.h>
-
 #include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <random>
 
-#include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
-#include "vlf/core/rotation.hpp"
-#include "vlf/field/exchange.hpp"
-#include "vlf/field/psf.hpp"
 #include "vlf/transport/gaussian_filter.hpp"
-#include "vlf/transport/perturbation.hpp"
-#include "vlf/transport/specular.hpp"
-#include "vlf/transport/texel_clip.hpp"
+#include "vlf/transport/transport_internal.hpp"
 
 namespace vlf {
 
-namespace {
-
-// Directions are split into this many fixed chunks, independent of the thread count;
-// chunk accumulators are reduced in chunk order (determinism).
-constexpr int kChunks = 16;
-// Chunks processed (and their P^N accumulators alive) at a time; any value gives the same
-// sums, since the reduction is always in chunk order.
-constexpr int kWave = 4;
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double luminance(const Rgb& c) {
-    return (c.x + c.y + c.z) / 3.0;
-}
-
-struct Scratch {
-    std::vector<Rgb> out, in;
-    std::unique_ptr<DirectionGeometry> local;  // where a direction's geometry is built
-    TileExchange x;
-    ExchangeScratch xs;
-    FaceRaster coarse;  // super-sampling: the face on the N x N grid
-    std::vector<int32_t> coarse_index;
-    std::vector<Rgb> parent_sum;
-    std::vector<int> parent_count;
-};
-
-struct ChunkResult {
-    std::vector<Rgb> next;
-    Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
-    NumericalLoss lost;
-    std::vector<SpecularSource> sources;
-    double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
-    // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
-    void reset(size_t texels) {
-        next.assign(texels, Rgb(0.0));
-        absorbed = absorbed_back = escaped = Rgb(0.0);
-        lost = NumericalLoss{};
-        sources.clear();
-        rasterise = clipping = exchange = transfer = 0;
-    }
-};
-
-}  // namespace
-
-// Buffers that live as long as the transport: one Scratch per worker thread and the
-// chunk accumulators of a wave, reused by every pass of every cycle (their contents are
-// overwritten, so reuse never changes a result).
-struct Transport::Workspace {
-    tbb::enumerable_thread_specific<Scratch> scratch;
-    std::vector<ChunkResult> chunks;
-};
-
-// Everything of a direction that depends only on geometry: the PSF, the slots of its
-// rays, fragments grouped by face, the beam/texel overlaps (continuous clipping) and the
-// exchange partners. Built once per direction and, within the memory budget, kept for
-// all cycles (the paper spent 80-85 % of its time re-clipping these every cycle).
-struct DirectionGeometry {
-    Psf psf;
-    std::vector<uint32_t> tile_base;   // slots: tile_base[ti] + fragment.ray_offset + k
-    std::vector<uint32_t> face_begin;  // faces + 1, into frags
-    std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
-    std::vector<uint32_t> ov_begin;                    // slots + 1, into ov
-    std::vector<TexelOverlap> ov;
-    std::vector<int32_t> partner;  // per slot: partner slot, kEscaped or kBlocked
-    // Bytes of an exact-size copy (what the cache holds).
-    int64_t bytes() const {
-        int64_t b = static_cast<int64_t>(sizeof(DirectionGeometry));
-        for (const Tile& t : psf.tiles)
-            b += static_cast<int64_t>(sizeof(Tile) + t.fragments.size() * sizeof(Fragment) +
-                                      t.spans.size() * sizeof(Span));
-        b += static_cast<int64_t>(
-            (tile_base.size() + face_begin.size() + ov_begin.size()) * sizeof(uint32_t) +
-            frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
-            partner.size() * sizeof(int32_t) + psf.tile_of.size() * sizeof(int32_t));
-        return b;
-    }
-};
+using namespace transport_detail;
 
 namespace {
 
-struct GeometryInputs {
-    const Scene& scene;
-    const TextureMaps& tex;
-    const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
-    double seal_gap;                                 // exchange.hpp kSealed
-};
-
-void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, int N, int m,
-                    const uint8_t* sending, DirectionGeometry& g, TileExchange& x,
-                    ExchangeScratch& xs, double& t_raster, double& t_clip, double& t_exchange) {
-    const Scene& scene = in.scene;
-    const size_t nf = scene.faces.size();
-    auto t0 = Clock::now();
-    g.psf = rasterise_psf(scene, rot, d, N, m);
-    const Psf& psf = g.psf;
-    g.tile_base.resize(psf.tiles.size() + 1);
-    g.tile_base[0] = 0;
-    for (size_t ti = 0; ti < psf.tiles.size(); ++ti)
-        g.tile_base[ti + 1] = g.tile_base[ti] + psf.tiles[ti].covered;
-    const uint32_t S = g.tile_base.back();
-    g.face_begin.assign(nf + 1, 0);
-    for (const Tile& t : psf.tiles)
-        for (const Fragment& f : t.fragments) ++g.face_begin[f.face + 1];
-    for (size_t f = 0; f < nf; ++f) g.face_begin[f + 1] += g.face_begin[f];
-    g.frags.resize(g.face_begin[nf]);
-    {
-        std::vector<uint32_t> cur(g.face_begin.begin(), g.face_begin.end() - 1);
-        for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti)
-            for (uint32_t fi = 0; fi < psf.tiles[ti].fragments.size(); ++fi)
-                g.frags[cur[psf.tiles[ti].fragments[fi].face]++] = {ti, fi};
-    }
-    t_raster += since(t0);
-
-    // Exchange partners of every ray (§4.1 exchange buffers), as slots.
-    t0 = Clock::now();
-    g.partner.assign(S, kEscaped);
-    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-        const Tile& tile = psf.tiles[ti];
-        // A ray shut within the scene's seal gap (a texel) by the back of another
-        // surface is sealed: diffuse senders leave it out (exchange.hpp).
-        build_exchange(scene, psf, tile, x, xs, in.seal_gap);
-        const uint32_t tb = g.tile_base[ti];
-        for (const Fragment& fr : tile.fragments)
-            for (uint32_t k = 0; k < fr.covered; ++k) {
-                const int32_t p = x.partner[fr.ray_offset + k];
-                g.partner[tb + fr.ray_offset + k] =
-                    p >= 0 ? static_cast<int32_t>(tb + tile.fragments[p].ray_offset +
-                                                  x.partner_ray[fr.ray_offset + k])
-                           : p;
-            }
-    }
-    t_exchange += since(t0);
-
-    // Clip the beams of faces that can hold diffuse power against their texel grids. Given
-    // `sending` (a pass whose geometry is used once), only the rays that carry power this
-    // pass: those of the sending faces and their partners; the rest get no overlaps.
-    t0 = Clock::now();
-    std::vector<uint8_t> needed;
-    if (sending != nullptr) {
-        needed.assign(S, 0);
-        for (size_t f = 0; f < nf; ++f) {
-            if (!sending[f]) continue;
-            for (uint32_t q = g.face_begin[f]; q < g.face_begin[f + 1]; ++q) {
-                const auto [ti, fi] = g.frags[q];
-                const uint32_t base = g.tile_base[ti] + psf.tiles[ti].fragments[fi].ray_offset;
-                for (uint32_t k = 0; k < psf.tiles[ti].fragments[fi].covered; ++k) {
-                    needed[base + k] = 1;
-                    if (g.partner[base + k] >= 0) needed[g.partner[base + k]] = 1;
-                }
-            }
-        }
-    }
-    g.ov_begin.assign(S + 1, 0);
-    g.ov.clear();
-    for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti) {
-        const Tile& tile = psf.tiles[ti];
-        for (const Fragment& fr : tile.fragments) {
-            const Face& face = scene.faces[fr.face];
-            const Material& mat = scene.material_of(face);
-            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
-            if (!mat.is_diffuse() && !mat.is_emitter()) {
-                for (uint32_t k = 0; k < fr.covered; ++k)
-                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-                continue;
-            }
-            const PsfToTexel map = psf_to_texel(face, rot);
-            const std::vector<Vec2>& poly = in.polygons[fr.face];
-            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                if (!needed.empty() && !needed[base + k]) {
-                    g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-                    return;
-                }
-                // The beam's footprint on the face itself: the part of the pixel's
-                // parallelogram inside the polygon, sliced by the texel grid (area-exact at
-                // the rim, docs/propagation.md §3).
-                pixel_texel_overlaps(map, tile.s * m + u, tile.t * m + v, N, poly,
-                                     face.texels.width, face.texels.height, g.ov);
-                g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
-            });
-        }
-    }
-    t_clip += since(t0);
-}
-
-}  // namespace
-
-using Geometry = DirectionGeometry;
-
-// Calls fn(tile, fragment, first slot) for the fragments [fb, fe) of a face, in tile order.
-template <class F>
-void for_fragments(const DirectionGeometry& g, uint32_t fb, uint32_t fe, F&& fn) {
-    for (uint32_t q = fb; q < fe; ++q) {
-        const auto [ti, fi] = g.frags[q];
-        const Tile& tile = g.psf.tiles[ti];
-        const Fragment& fr = tile.fragments[fi];
-        fn(tile, fr, g.tile_base[ti] + fr.ray_offset);
-    }
-}
-
-std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
-                                       int N, int m) {
-    const size_t nf = scene.faces.size();
-    std::vector<uint32_t> cov(rotations.size() * nf, 0);
-    parallel_for(0, static_cast<long>(rotations.size()), [&](long d) {
-        FaceRaster fr;
-        for (size_t f = 0; f < nf; ++f) {
-            rasterise_face(scene.faces[f], rotations[d], N, m, fr);
-            cov[size_t(d) * nf + f] = fr.covered;
-        }
-    });
-    return cov;
-}
-
-// Sum over the directions a face has rays in of |n . omega_d| * Delta_d: the denominator
-// of the diffuse share (VLF §4.4 eq. (3), the "total projected unit area", corrected for
-// unequal solid angles — §5). Restricting it to covered directions makes the shares of
-// every face sum to exactly 1.
-std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
-                                     const std::vector<Mat3>& rotations,
-                                     const std::vector<uint32_t>& coverage) {
-    const size_t nf = scene.faces.size();
-    std::vector<double> norm(nf, 0.0);
-    for (size_t f = 0; f < nf; ++f)
-        for (int d = 0; d < dirs.size(); ++d)
-            if (coverage[size_t(d) * nf + f] > 0)
-                norm[f] += std::abs((rotations[d] * scene.faces[f].normal).z) * dirs.solid_angle(d);
-    return norm;
-}
-
-Transport::Transport(const Scene& scene, const PropagateParams& params)
-    : m_scene(scene), m_params(params), m_dirs(params.field.directions, params.field.scheme) {
-    validate(params);
+// One direction of a pass: its geometry, then the steps of VLF §4.1 along its rays.
+void run_direction(const PassContext& pc, const GeometryInputs& in, const GeometryCache& cache,
+                   int d, Scratch& w, ChunkResult& res) {
+    // 1. The geometry: PSF, exchange partners, beam/texel overlaps (§3, §4.1, §4.2).
+    const DirectionGeometry& g = direction_geometry(in, cache, pc.rotations[d], d, w, res.times);
+    const PassDirection pd{d, g, g.psf.ray_area() * pc.dirs.solid_angle(d)};
     const auto t0 = Clock::now();
-    const int l = m_dirs.size();
-    m_rot.resize(l);
-    for (int d = 0; d < l; ++d) m_rot[d] = rotation_to_z(m_dirs.direction(d));
-    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile);
-    // Super-sampled exchange (§5): every pass runs on an s-times finer ray grid; the
-    // directional radiance maps stay on the N x N grid.
-    const int s = params.supersample;
-    const int P = params.perturbations;
-    m_passes.resize(size_t(P) + 1);
-    for (int p = 0; p <= P; ++p) {
-        Pass& pass = m_passes[p];
-        if (p == 0) {
-            pass.rotations = m_rot;
-        } else {
-            // VLF §5: the whole direction set rotated by a stratified random rotation
-            // inside the mean solid angle (one set per run, perturbation.hpp).
-            const Mat3 r = perturbation_rotation(m_dirs, params.seed, p, P);
-            pass.rotations.resize(l);
-            for (int d = 0; d < l; ++d) pass.rotations[d] = rotation_to_z(r * m_dirs.direction(d));
-        }
-        pass.send_norm = p == 0 && s == 1
-                             ? send_normalisers(scene, m_dirs, m_rot, m_coverage)
-                             : send_normalisers(scene, m_dirs, pass.rotations,
-                                                measure_coverage(scene, pass.rotations,
-                                                                 params.field.resolution * s,
-                                                                 params.field.tile * s));
-    }
-    m_tex = TextureMaps(scene);
-
-    const size_t nf = scene.faces.size();
-    std::vector<bool> spec(nf), other(nf);
-    double area = 0.0, refl = 0.0;
-    for (size_t f = 0; f < nf; ++f) {
-        const Material& mat = scene.material_of(scene.faces[f]);
-        spec[f] = mat.is_specular();
-        other[f] = params.store_all_rays && !spec[f];
-        area += scene.faces[f].area;
-        refl += scene.faces[f].area * luminance(mat.diffuse + mat.specular);
-    }
-    m_spec = RadianceMaps(scene, spec, l, m_coverage, true);
-    m_other = RadianceMaps(scene, other, l, m_coverage, false);
-    m_mean_reflectance = area > 0 ? refl / area : 0.0;  // VLF §4.5 eq. (4)
-    m_deferred.assign(nf, 0);
-    m_polygons.resize(nf);
-    for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
-    m_pools = build_rim_pools(scene, m_tex);
-    m_cache.resize(static_cast<size_t>(l) * m_passes.size());
-    m_work = std::make_unique<Workspace>();
-    m_timings.setup = since(t0);
+    // 2. Senders load their rays (§4.4 eq. (3), §4.1 line 9).
+    send_step(pc, pd, w, res);
+    // 3. Exchange along every ray (§4.1 lines 5-8).
+    exchange_step(pd, w, res);
+    // 4. Receivers: P^N, absorption, specular sources (§4.1 line 10, §4.2-4.3).
+    receive_step(pc, pd, w, res);
+    res.times.transfer += since(t0);
 }
 
-Transport::~Transport() = default;
+}  // namespace
 
 int64_t Transport::work(int cycles) const {
     const int perturbed = std::min(cycles, m_params.perturb_cycles);
     const int64_t passes = int64_t(perturbed) * int64_t(m_passes.size()) + (cycles - perturbed);
     return passes * m_dirs.size();
-}
-
-int Transport::cached_directions() const {
-    int n = 0;
-    for (const auto& g : m_cache) n += g != nullptr;
-    return n;
-}
-
-int64_t Transport::geometry_cache_bytes() const {
-    int64_t b = 0;
-    for (const auto& g : m_cache)
-        if (g) b += g->bytes();
-    return b;
 }
 
 double Transport::to_user_power() const {
@@ -379,40 +91,41 @@ void Transport::choose_deferred(bool last) {
 
 void Transport::run_pass(int pass, double share) {
     const auto pass_start = Clock::now();
-    const std::vector<Mat3>& rotations = m_passes[pass].rotations;
-    const std::vector<double>& send_norm = m_passes[pass].send_norm;
-    const bool true_directions = pass == 0;
-    const Scene& scene = m_scene;
+    const Pass& directions = m_passes[pass];
+    const int l = static_cast<int>(directions.rotations.size());
     const int s = m_params.supersample;
     const int Nc = m_params.field.resolution, mc = m_params.field.tile;  // radiance-map grid
-    const int N = Nc * s, m = mc * s;                                    // exchange grid
-    const int l = static_cast<int>(rotations.size());
-    const size_t nf = scene.faces.size();
-    const double ray_area = 4.0 / (double(N) * N);
-
-    // Which faces send diffuse power this pass, how much, and their unshot exitance.
-    std::vector<uint8_t> sends(nf, 0);
-    std::vector<Rgb> face_unshot(nf, Rgb(0.0));
-    std::vector<Rgb> exitance(m_tex.texels(), Rgb(0.0));
-    for (size_t f = 0; f < nf; ++f) {
-        if (m_deferred[f]) continue;
-        const size_t tb = m_tex.begin(int(f));
-        const Rgb u = TextureMaps::sum(m_tex.current, tb, m_tex.count(int(f)));
-        sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
-        if (!sends[f]) continue;
-        face_unshot[f] = u;
-        const Face& face = scene.faces[f];
-        for (size_t t = 0; t < m_tex.count(int(f)); ++t)
-            if (face.texel_area[t] > 0.0)
-                exitance[tb + t] = m_tex.current[tb + t] / face.texel_area[t];
-    }
-    const GeometryInputs inputs{scene, m_tex, m_polygons, scene.seal_gap};
+    const Senders senders = find_senders(m_scene, m_tex, m_deferred, directions.send_norm);
+    const PassContext pc{.scene = m_scene,
+                         .dirs = m_dirs,
+                         .coverage = m_coverage,
+                         .tex = m_tex,
+                         .spec = m_spec,
+                         .other = m_other,
+                         .rotations = directions.rotations,
+                         .send_norm = directions.send_norm,
+                         .senders = senders,
+                         .share = share,
+                         .true_directions = pass == 0,
+                         .s = s,
+                         .Nc = Nc,
+                         .mc = mc,
+                         .N = Nc * s,
+                         .m = mc * s};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
-    // cycle (identical either way, so the budget never changes a map).
-    std::unique_ptr<Geometry>* cache = m_cache.data() + size_t(pass) * size_t(l);
-    // A perturbed pass's geometry is not worth keeping in the last cycle that perturbs.
+    // cycle (identical either way, so the budget never changes a map). A perturbed pass's
+    // geometry is not worth keeping in the last cycle that perturbs: it clips only the rays
+    // that carry power in this pass.
     const bool reused = pass == 0 || cycles_done() + 1 < m_params.perturb_cycles;
-    const int64_t budget = reused ? m_params.cache_budget_mib << 20 : 0;
+    const GeometryInputs inputs{.scene = m_scene,
+                                .polygons = m_polygons,
+                                .seal_gap = m_scene.seal_gap,
+                                .N = pc.N,
+                                .m = pc.m,
+                                .sending = reused ? nullptr : senders.sends.data()};
+    const GeometryCache cache{.slots = m_cache.data() + size_t(pass) * size_t(l),
+                              .used = m_cache_used,
+                              .budget = reused ? m_params.cache_budget_mib << 20 : 0};
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
@@ -428,319 +141,35 @@ void Transport::run_pass(int pass, double share) {
                       d1 = static_cast<int>((c + 1) * l / kChunks);
             for (int d = d0; d < d1; ++d) {
                 if (m_progress != nullptr) m_progress->advance();
-                const Mat3& rot = rotations[d];
-                const Geometry* gp = nullptr;
-                if (cache[d]) {
-                    gp = cache[d].get();
-                } else {
-                    if (!w.local) w.local = std::make_unique<Geometry>();
-                    build_geometry(inputs, rot, d, N, m, reused ? nullptr : sends.data(), *w.local,
-                                   w.x, w.xs, res.rasterise, res.clipping, res.exchange);
-                    gp = w.local.get();
-                    if (budget > 0) {
-                        // Kept as an exact-size copy: the scratch keeps its grown capacity for
-                        // the next direction, and the cache holds no slack.
-                        const int64_t b = w.local->bytes();
-                        if (m_cache_used.fetch_add(b) + b <= budget) {
-                            cache[d] = std::make_unique<Geometry>(*w.local);
-                            gp = cache[d].get();
-                        } else {
-                            m_cache_used.fetch_sub(b);
-                        }
-                    }
-                }
-                const Geometry& g = *gp;
-                const Psf& psf = g.psf;
-                const Vec3 omega = psf.omega;
-                const double beam = ray_area * m_dirs.solid_angle(d);  // a * Delta_d
-                const uint32_t S = g.tile_base.back();
-                w.out.assign(S, Rgb(0.0));
-                w.in.assign(S, Rgb(0.0));
-                auto t0 = Clock::now();
-
-                // 2. Senders load their rays.
-                t0 = Clock::now();
-                for (size_t f = 0; f < nf; ++f) {
-                    const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
-                    const Face& face = scene.faces[f];
-                    const size_t tb = m_tex.begin(int(f));
-                    const bool spec_store = true_directions && m_spec.stores(int(f));
-                    const bool other_store = true_directions && m_other.stores(int(f));
-                    if (fb == fe) {
-                        // A sliver with rays on the N x N grid but none on the finer exchange
-                        // grid: its unshot specular light cannot leave; the ledger absorbs it.
-                        if (spec_store && m_coverage[size_t(d) * nf + f] > 0) {
-                            const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
-                            const uint64_t mb = m_spec.begin(d, int(f));
-                            for (uint64_t k = 0; k < m_spec.count(d, int(f)); ++k)
-                                res.lost.subpixel_mirror += Rgb(m_spec.unshot[mb + k]) * beam_c;
-                        }
-                        continue;
-                    }
-                    if (sends[f]) {
-                        // Each ray samples the face's unshot exitance under its footprint
-                        // (the weights are unbiased at the rim, texel_clip.hpp); the rays are
-                        // then scaled so the face sends exactly its share into this
-                        // direction, wd = cos(theta_d) Delta_d / sum (VLF §4.4 eq. (3)).
-                        // Sampling exitance rather than splitting each texel's power keeps a
-                        // uniform field uniform at the rim (docs/propagation.md §3).
-                        const double nz = std::abs((rot * face.normal).z);
-                        const double wd = share * nz * m_dirs.solid_angle(d) / send_norm[f];
-                        Rgb sampled(0.0);
-                        uint32_t rays = 0;
-                        for_fragments(
-                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                for (uint32_t k = 0; k < fr.covered; ++k) {
-                                    if (g.partner[base + k] == kSealed) continue;
-                                    ++rays;
-                                    Rgb p(0.0);
-                                    double rowsum = 0.0;
-                                    for (uint32_t o = g.ov_begin[base + k];
-                                         o < g.ov_begin[base + k + 1]; ++o) {
-                                        p += exitance[tb + g.ov[o].texel] * double(g.ov[o].area);
-                                        rowsum += g.ov[o].area;
-                                    }
-                                    if (rowsum > 0.0) p /= rowsum;
-                                    w.out[base + k] = p;
-                                    sampled += p;
-                                }
-                            });
-                        const Rgb target = face_unshot[f] * wd;
-                        Rgb scale(0.0), even(0.0);
-                        for (int c = 0; c < 3; ++c) {
-                            if (sampled[c] > 0.0)
-                                scale[c] = target[c] / sampled[c];
-                            else if (rays > 0)
-                                even[c] = target[c] / rays;  // no ray sees the unshot texels
-                            else
-                                res.lost.sealed[c] += target[c];  // every ray is shut
-                        }
-                        for_fragments(g, fb, fe,
-                                      [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                          for (uint32_t k = 0; k < fr.covered; ++k)
-                                              if (g.partner[base + k] != kSealed)
-                                                  w.out[base + k] = w.out[base + k] * scale + even;
-                                      });
-                    }
-                    if ((spec_store || other_store) && s == 1) {
-                        RadianceMaps& maps = spec_store ? m_spec : m_other;
-                        const uint64_t mb = maps.begin(d, int(f));
-                        VLF_CHECK(maps.count(d, int(f)) == m_coverage[size_t(d) * nf + f]);
-                        uint64_t kl = 0;
-                        for_fragments(
-                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
-                                    Rgb& o = w.out[base + k];
-                                    if (spec_store) o += Rgb(maps.unshot[mb + kl]) * beam;
-                                    maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
-                                }
-                            });
-                    } else if (spec_store || other_store) {
-                        // Super-sampled: each fine ray takes L_U of its N x N parent ray; the
-                        // face's unshot power in this direction is rescaled to be sent whole.
-                        // L_T of a parent is the mean radiance of its fine rays on the face.
-                        RadianceMaps& maps = spec_store ? m_spec : m_other;
-                        const uint64_t mb = maps.begin(d, int(f));
-                        rasterise_face(face, rot, Nc, mc, w.coarse);
-                        VLF_CHECK(maps.count(d, int(f)) == w.coarse.covered);
-                        int ci0 = Nc, cj0 = Nc, ci1 = -1, cj1 = -1;
-                        for (const FaceFragment& ff : w.coarse.fragments) {
-                            ci0 = std::min(ci0, ff.s * mc);
-                            ci1 = std::max(ci1, ff.s * mc + mc - 1);
-                            cj0 = std::min(cj0, ff.t * mc + ff.row_begin);
-                            cj1 = std::max(cj1, ff.t * mc + ff.row_begin + ff.rows - 1);
-                        }
-                        const int cw = ci1 - ci0 + 1;
-                        w.coarse_index.assign(size_t(std::max(0, cw)) * std::max(0, cj1 - cj0 + 1),
-                                              -1);
-                        for (const FaceFragment& ff : w.coarse.fragments)
-                            w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int k0) {
-                                static_cast<void>(k0);
-                                w.coarse_index[size_t(ff.t * mc + v - cj0) * cw +
-                                               (ff.s * mc + u - ci0)] = 0;
-                            });
-                        {  // local indices in face-local order
-                            int32_t k = 0;
-                            for (const FaceFragment& ff : w.coarse.fragments)
-                                w.coarse.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                                    w.coarse_index[size_t(ff.t * mc + v - cj0) * cw +
-                                                   (ff.s * mc + u - ci0)] = k++;
-                                });
-                        }
-                        auto parent_of = [&](int i, int j) -> int32_t {
-                            const int ci = i / s - ci0, cj = j / s - cj0;
-                            if (ci < 0 || cj < 0 || ci >= cw || cj > cj1 - cj0) return -1;
-                            return w.coarse_index[size_t(cj) * cw + ci];
-                        };
-                        const double beam_c = 4.0 / (double(Nc) * Nc) * m_dirs.solid_angle(d);
-                        Rgb scale(0.0);
-                        if (spec_store) {
-                            Rgb unshot(0.0), reach(0.0);
-                            for (uint64_t k = 0; k < w.coarse.covered; ++k)
-                                unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-                            for_fragments(
-                                g, fb, fe,
-                                [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                    tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
-                                        const int32_t pk =
-                                            parent_of(tile.s * m + u, tile.t * m + v);
-                                        if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * beam;
-                                    });
-                                });
-                            for (int c = 0; c < 3; ++c) {
-                                if (reach[c] > 0.0)
-                                    scale[c] = unshot[c] / reach[c];
-                                else
-                                    res.lost.subpixel_mirror[c] +=
-                                        unshot[c];  // no fine ray carries it
-                            }
-                        }
-                        w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
-                        w.parent_count.assign(w.coarse.covered, 0);
-                        for_fragments(
-                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                                    const int32_t pk = parent_of(tile.s * m + u, tile.t * m + v);
-                                    Rgb& o = w.out[base + k];
-                                    if (pk < 0) return;
-                                    if (spec_store) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
-                                    w.parent_sum[pk] += o / beam;
-                                    ++w.parent_count[pk];
-                                });
-                            });
-                        for (uint64_t k = 0; k < w.coarse.covered; ++k)
-                            if (w.parent_count[k] > 0)
-                                maps.total[mb + k] +=
-                                    RgbF(w.parent_sum[k] / double(w.parent_count[k]));
-                    }
-                }
-
-                // 3. Exchange along every ray (§4.1 lines 5-8).
-                for (uint32_t slot = 0; slot < S; ++slot) {
-                    const int32_t p = g.partner[slot];
-                    if (p >= 0) {
-                        w.in[slot] = w.out[p];
-                    } else if (p == kEscaped) {
-                        res.escaped += w.out[slot];
-                    } else if (p == kSealed) {
-                        res.lost.sealed += w.out[slot];  // a mirror's light into a shut ray
-                    } else {
-                        res.absorbed_back += w.out[slot];  // a one-sided face's black back
-                    }
-                }
-                res.transfer += since(t0);
-
-                // 4. Receivers.
-                t0 = Clock::now();
-                for (size_t f = 0; f < nf; ++f) {
-                    const uint32_t fb = g.face_begin[f], fe = g.face_begin[f + 1];
-                    if (fb == fe) continue;
-                    const Face& face = scene.faces[f];
-                    const Material& mat = scene.material_of(face);
-                    Rgb received(0.0);
-                    int imin = N, imax = -1, jmin = N, jmax = -1;
-                    for_fragments(
-                        g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                            for (uint32_t k = 0; k < fr.covered; ++k) received += w.in[base + k];
-                            imin = std::min(imin, tile.s * m);
-                            imax = std::max(imax, tile.s * m + m - 1);
-                            jmin = std::min(jmin, tile.t * m + fr.row_begin);
-                            jmax = std::max(jmax, tile.t * m + fr.row_begin + fr.rows - 1);
-                        });
-                    if (received.x <= 0 && received.y <= 0 && received.z <= 0) continue;
-                    res.absorbed += received * (Rgb(1.0) - mat.diffuse - mat.specular);
-                    if (mat.is_diffuse()) {
-                        // The temporary radiance tile onto P^N (§4.2): each beam's power
-                        // over the texels its footprint overlaps, by overlap area.
-                        const size_t tb = m_tex.begin(int(f));
-                        for (uint32_t q = fb; q < fe; ++q) {
-                            const auto [ti, fi] = g.frags[q];
-                            const Fragment& fr = psf.tiles[ti].fragments[fi];
-                            const uint32_t base = g.tile_base[ti] + fr.ray_offset;
-                            for (uint32_t k = 0; k < fr.covered; ++k) {
-                                const Rgb p = w.in[base + k] * mat.diffuse;
-                                if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
-                                double rowsum = 0.0;
-                                for (uint32_t o = g.ov_begin[base + k];
-                                     o < g.ov_begin[base + k + 1]; ++o)
-                                    rowsum += g.ov[o].area;
-                                if (rowsum <= 0.0) {
-                                    res.lost.empty_footprint += p;
-                                    continue;
-                                }
-                                for (uint32_t o = g.ov_begin[base + k];
-                                     o < g.ov_begin[base + k + 1]; ++o)
-                                    res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
-                            }
-                        }
-                    }
-                    if (mat.is_specular()) {
-                        SpecularSource src;
-                        src.face = int(f);
-                        src.rotation = rot;
-                        src.resolution = N;
-                        src.power = received * mat.specular;
-                        const int facing = (rot * face.normal).z > 0 ? 1 : -1;
-                        const Vec3 incoming =
-                            omega * double(-facing);  // light travels towards the face
-                        src.targets = specular_targets(m_dirs, face, incoming, m_coverage, nf,
-                                                       src.target_direction, src.target_weight);
-                        if (src.targets == 0) {
-                            res.lost.grazing_mirror += src.power;  // no PSF can carry it
-                            continue;
-                        }
-                        src.i0 = imin;
-                        src.j0 = jmin;
-                        src.width = imax - imin + 1;
-                        src.height = jmax - jmin + 1;
-                        src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
-                        src.covered.assign(size_t(src.width) * src.height, 0);
-                        for_fragments(
-                            g, fb, fe, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                                tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                                    const size_t at = size_t(tile.t * m + v - src.j0) * src.width +
-                                                      (tile.s * m + u - src.i0);
-                                    src.radiance[at] = RgbF(w.in[base + k] / beam);
-                                    src.covered[at] = 1;
-                                });
-                            });
-                        res.sources.push_back(std::move(src));
-                    }
-                }
-                res.transfer += since(t0);
+                run_direction(pc, inputs, cache, d, w, res);
             }
         });
-
-        // Reductions, in chunk order.
-        const int in_wave = std::min(kWave, kChunks - wave);
-        for (int k = 0; k < in_wave; ++k) {
-            ChunkResult& c = chunks[k];
-            for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
-            m_running.absorbed += c.absorbed;
-            m_running.escaped += c.escaped;
-            m_running.absorbed_back += c.absorbed_back;
-            m_running.lost += c.lost;
-            m_timings.rasterise += c.rasterise;
-            m_timings.clipping += c.clipping;
-            m_timings.exchange += c.exchange;
-            m_timings.transfer += c.transfer;
-            for (SpecularSource& s : c.sources) sources.push_back(std::move(s));
-        }
+        reduce_chunks(std::min(kWave, kChunks - wave), sources);
     }
     m_timings.passes += since(pass_start);
+    // Then the reflected light of the pass into the mirrors' unshot maps (specular.hpp).
     const auto t0 = Clock::now();
     if (!sources.empty())
-        m_running.lost.rounding += gather_specular(scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
+        m_running.lost.rounding += gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
     m_timings.specular += since(t0);
 }
 
-void Transport::release_perturbed_geometry() {
-    const size_t l = size_t(m_dirs.size());
-    for (size_t k = l; k < m_cache.size(); ++k)
-        if (m_cache[k]) {
-            m_cache_used.fetch_sub(m_cache[k]->bytes());
-            m_cache[k].reset();
-        }
+// The reductions of a wave, in chunk order (DESIGN §5 Parallelism): P^N, the ledger, the
+// timings, and the specular sources (in chunk order, then direction order within a chunk).
+void Transport::reduce_chunks(int count, std::vector<SpecularSource>& sources) {
+    for (int k = 0; k < count; ++k) {
+        ChunkResult& c = m_work->chunks[k];
+        for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
+        m_running.absorbed += c.absorbed;
+        m_running.escaped += c.escaped;
+        m_running.absorbed_back += c.absorbed_back;
+        m_running.lost += c.lost;
+        m_timings.rasterise += c.times.rasterise;
+        m_timings.clipping += c.times.clipping;
+        m_timings.exchange += c.times.exchange;
+        m_timings.transfer += c.times.transfer;
+        for (SpecularSource& src : c.sources) sources.push_back(std::move(src));
+    }
 }
 
 void Transport::fold_unshot_into_total() {
@@ -770,6 +199,23 @@ void Transport::run_cycle(bool last) {
     m_timings.filter += since(t0);
     t0 = Clock::now();
     Rgb unshot(0.0), deferred(0.0);
+    swap_maps(unshot, deferred);
+    const double u = to_user_power();
+    e.emitted = m_running.emitted * u;
+    e.absorbed = m_running.absorbed * u;
+    e.escaped = m_running.escaped * u;
+    e.absorbed_back = m_running.absorbed_back * u;
+    e.lost = m_running.lost * u;
+    e.unshot = unshot * u;
+    e.deferred = deferred * u;
+    m_ledger.push_back(e);
+    m_timings.bookkeeping += since(t0);
+}
+
+// VLF §4.1 closing lines: P^T += P^N; P^C <- P^N, or += P^N for deferred faces (§4.5);
+// L_U <- L_U next. Adds the power left unshot to `unshot` (texels, then mirrors' rays)
+// and the power deferred faces hold to `deferred`.
+void Transport::swap_maps(Rgb& unshot, Rgb& deferred) {
     for (const Face& f : m_scene.faces) {
         const size_t b = m_tex.begin(f.id), n = m_tex.count(f.id);
         for (size_t t = b; t < b + n; ++t) {
@@ -785,24 +231,14 @@ void Transport::run_cycle(bool last) {
         }
     }
     std::swap(m_spec.unshot, m_spec.unshot_next);
-    const double ray_area = 4.0 / (double(m_params.field.resolution) * m_params.field.resolution);
+    const double area = ray_area(m_params.field.resolution);
     for (int d = 0; d < m_dirs.size(); ++d) {
-        const double beam = ray_area * m_dirs.solid_angle(d);
+        const double beam = area * m_dirs.solid_angle(d);
         for (int f : m_spec.faces) {
             const uint64_t b = m_spec.begin(d, f), n = m_spec.count(d, f);
             for (uint64_t k = b; k < b + n; ++k) unshot += Rgb(m_spec.unshot[k]) * beam;
         }
     }
-    const double u = to_user_power();
-    e.emitted = m_running.emitted * u;
-    e.absorbed = m_running.absorbed * u;
-    e.escaped = m_running.escaped * u;
-    e.absorbed_back = m_running.absorbed_back * u;
-    e.lost = m_running.lost * u;
-    e.unshot = unshot * u;
-    e.deferred = deferred * u;
-    m_ledger.push_back(e);
-    m_timings.bookkeeping += since(t0);
 }
 
 }  // namespace vlf

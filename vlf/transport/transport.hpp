@@ -19,6 +19,10 @@
 // The reductions are explicit: chunk accumulators of P^N and of the ledger are summed in
 // chunk order, specular deposits are gathered per target; so the maps after a cycle do not
 // depend on the number of threads (DESIGN §5 Parallelism).
+//
+// Built in transport_setup.cpp; cycles and passes in transport.cpp; a direction's geometry
+// in geometry_cache.cpp; the steps 2 and 3-4 in send_step.cpp and receive_step.cpp (their
+// shared private types in transport_internal.hpp).
 #pragma once
 
 #include <atomic>
@@ -44,7 +48,8 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
                                      const std::vector<Mat3>& rotations,
                                      const std::vector<uint32_t>& coverage);
 
-struct DirectionGeometry;  // per-direction PSF, overlaps and exchange partners (transport.cpp)
+struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
+struct SpecularSource;
 
 // Wall-clock seconds of each phase of the propagation (they add up to the transport's
 // wall time), and the CPU seconds, summed over worker threads, inside the passes.
@@ -99,18 +104,25 @@ class Transport {
     double to_user_power() const;
 
   private:
-    void load_emission(LedgerEntry& e);
-    void choose_deferred(bool last);
-    // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
-    void run_pass(int pass, double share);
-    // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
-    void release_perturbed_geometry();
-
     // The direction set of one pass: rotations to +z and the diffuse send normalisers.
     struct Pass {
         std::vector<Mat3> rotations;
         std::vector<double> send_norm;  // per face: sum_d |n . omega_d| Delta_d, covered d
     };
+    // Pass 0: the true directions; p >= 1: those of perturbation p (transport_setup.cpp).
+    Pass make_pass(int p) const;
+
+    void load_emission(LedgerEntry& e);
+    void choose_deferred(bool last);
+    // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
+    void run_pass(int pass, double share);
+    // Adds the first `count` chunk accumulators of the workspace, in chunk order.
+    void reduce_chunks(int count, std::vector<SpecularSource>& sources);
+    // End of a cycle (VLF §4.1): P^T += P^N, P^C <- P^N (deferred faces: +=), L_U <- L_U
+    // next; adds the power left unshot and the power deferred.
+    void swap_maps(Rgb& unshot, Rgb& deferred);
+    // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
+    void release_perturbed_geometry();
 
     const Scene& m_scene;
     PropagateParams m_params;

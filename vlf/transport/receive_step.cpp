@@ -1,0 +1,137 @@
+// receive_step.cpp — the last two steps of a pass in one direction. The exchange moves the
+// power of every ray to its partner fragment X(P) (VLF §4.1 lines 5-8); rays leaving the
+// scene are escaped, rays hitting a back face absorbed. Then the receivers take it: rho_d
+// of the power goes to P^N over the texels each beam overlaps (§4.1 line 10, §4.2, the
+// temporary radiance tile), (1 - rho_d - rho_s) is absorbed, and rho_s is reflected into
+// the unshot maps of the enclosing mirror directions (§4.2-4.3, specular.hpp).
+#include <algorithm>
+
+#include "vlf/transport/transport_internal.hpp"
+
+namespace vlf::transport_detail {
+
+namespace {
+
+// What a face receives in one direction: the power on its rays, and their bounding box on
+// the exchange grid (by whole tile columns).
+struct Received {
+    Rgb power{0.0};
+    int imin, imax, jmin, jmax;
+};
+
+Received gather_received(const PassContext& pc, const DirectionGeometry& g, size_t f,
+                         const std::vector<Rgb>& in) {
+    const int m = pc.m;
+    Received r{Rgb(0.0), pc.N, -1, pc.N, -1};
+    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+                  [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                      for (uint32_t k = 0; k < fr.covered; ++k) r.power += in[base + k];
+                      r.imin = std::min(r.imin, tile.s * m);
+                      r.imax = std::max(r.imax, tile.s * m + m - 1);
+                      r.jmin = std::min(r.jmin, tile.t * m + fr.row_begin);
+                      r.jmax = std::max(r.jmax, tile.t * m + fr.row_begin + fr.rows - 1);
+                  });
+    return r;
+}
+
+// VLF §4.2, the temporary radiance tile onto P^N: rho_d of each beam's power over the
+// texels its footprint overlaps, by overlap area.
+void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
+                     const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
+    const size_t tb = pc.tex.begin(int(f));
+    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+                  [&](const Tile&, const Fragment& fr, uint32_t base) {
+                      for (uint32_t k = 0; k < fr.covered; ++k) {
+                          const Rgb p = in[base + k] * diffuse;
+                          if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
+                          const uint32_t ob = g.ov_begin[base + k], oe = g.ov_begin[base + k + 1];
+                          double rowsum = 0.0;
+                          for (uint32_t o = ob; o < oe; ++o) rowsum += g.ov[o].area;
+                          if (rowsum <= 0.0) {
+                              res.lost.empty_footprint += p;
+                              continue;
+                          }
+                          for (uint32_t o = ob; o < oe; ++o)
+                              res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
+                      }
+                  });
+}
+
+// VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
+// radiance over the window of its rays, gathered later into the unshot maps of the
+// directions enclosing the mirrored one (specular.hpp).
+void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, const Received& r,
+                      const Rgb& specular, const std::vector<Rgb>& in, ChunkResult& res) {
+    const DirectionGeometry& g = pd.g;
+    const Face& face = pc.scene.faces[f];
+    const Mat3& rot = pc.rotations[pd.d];
+    SpecularSource src;
+    src.face = int(f);
+    src.rotation = rot;
+    src.resolution = pc.N;
+    src.power = r.power * specular;
+    const int facing = (rot * face.normal).z > 0 ? 1 : -1;
+    const Vec3 incoming = g.psf.omega * double(-facing);  // light travels towards the face
+    src.targets = specular_targets(pc.dirs, face, incoming, pc.coverage, pc.scene.faces.size(),
+                                   src.target_direction, src.target_weight);
+    if (src.targets == 0) {
+        res.lost.grazing_mirror += src.power;  // no PSF can carry it
+        return;
+    }
+    src.i0 = r.imin;
+    src.j0 = r.jmin;
+    src.width = r.imax - r.imin + 1;
+    src.height = r.jmax - r.jmin + 1;
+    src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
+    src.covered.assign(size_t(src.width) * src.height, 0);
+    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+                  [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                      tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                          const size_t at = size_t(tile.t * pc.m + v - src.j0) * src.width +
+                                            (tile.s * pc.m + u - src.i0);
+                          src.radiance[at] = RgbF(in[base + k] / pd.beam);
+                          src.covered[at] = 1;
+                      });
+                  });
+    res.sources.push_back(std::move(src));
+}
+
+}  // namespace
+
+// VLF §4.1 lines 5-8: each ray's power to its partner; what has none is escaped, lost in a
+// sealed ray or absorbed by a back face.
+void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res) {
+    const DirectionGeometry& g = pd.g;
+    const uint32_t S = g.slots();
+    w.in.assign(S, Rgb(0.0));
+    for (uint32_t slot = 0; slot < S; ++slot) {
+        const int32_t p = g.partner[slot];
+        if (p >= 0) {
+            w.in[slot] = w.out[p];
+        } else if (p == kEscaped) {
+            res.escaped += w.out[slot];
+        } else if (p == kSealed) {
+            res.lost.sealed += w.out[slot];  // a mirror's light into a shut ray
+        } else {
+            res.absorbed_back += w.out[slot];  // a one-sided face's black back
+        }
+    }
+}
+
+// VLF §4.1 line 10, §4.2-4.3, face by face: what a face receives is absorbed by
+// (1 - rho_d - rho_s), rho_d of it goes to P^N, rho_s of it becomes a specular source.
+void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
+                  ChunkResult& res) {
+    const DirectionGeometry& g = pd.g;
+    for (size_t f = 0; f < pc.scene.faces.size(); ++f) {
+        if (g.face_begin[f] == g.face_begin[f + 1]) continue;
+        const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
+        const Received r = gather_received(pc, g, f, w.in);
+        if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
+        res.absorbed += r.power * (Rgb(1.0) - mat.diffuse - mat.specular);
+        if (mat.is_diffuse()) receive_diffuse(pc, g, f, mat.diffuse, w.in, res);
+        if (mat.is_specular()) reflect_specular(pc, pd, f, r, mat.specular, w.in, res);
+    }
+}
+
+}  // namespace vlf::transport_detail

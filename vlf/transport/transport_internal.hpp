@@ -1,0 +1,187 @@
+// transport_internal.hpp — what the transport's own files share, and nothing else
+// includes: a direction's geometry and the pass's cache of it (geometry_cache.cpp), the
+// worker scratch and chunk accumulators, and the steps one pass runs for each direction
+// (send_step.cpp, receive_step.cpp), driven by Transport::run_pass (transport.cpp).
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "vlf/field/direction_set.hpp"
+#include "vlf/field/exchange.hpp"
+#include "vlf/field/psf.hpp"
+#include "vlf/field/radiance_maps.hpp"
+#include "vlf/field/texture_maps.hpp"
+#include "vlf/scene/scene.hpp"
+#include "vlf/transport/ledger.hpp"
+#include "vlf/transport/specular.hpp"
+#include "vlf/transport/texel_clip.hpp"
+#include "vlf/transport/transport.hpp"
+
+namespace vlf {
+
+// Everything of a direction that depends only on geometry: the PSF, the slots of its
+// rays, fragments grouped by face, the beam/texel overlaps (continuous clipping) and the
+// exchange partners. Built once per direction and, within the memory budget, kept for
+// all cycles (the paper spent 80-85 % of its time re-clipping these every cycle).
+struct DirectionGeometry {
+    Psf psf;
+    std::vector<uint32_t> tile_base;   // slots: tile_base[ti] + fragment.ray_offset + k
+    std::vector<uint32_t> face_begin;  // faces + 1, into frags
+    std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
+    std::vector<uint32_t> ov_begin;                    // slots + 1, into ov
+    std::vector<TexelOverlap> ov;
+    std::vector<int32_t> partner;  // per slot: partner slot, kEscaped, kBlocked or kSealed
+    uint32_t slots() const { return tile_base.back(); }
+    // Bytes of an exact-size copy (what the cache holds).
+    int64_t bytes() const;
+};
+
+// Calls fn(tile, fragment, first slot) for the fragments [fb, fe) of a face, in tile order.
+template <class F>
+void for_fragments(const DirectionGeometry& g, uint32_t fb, uint32_t fe, F&& fn) {
+    for (uint32_t q = fb; q < fe; ++q) {
+        const auto [ti, fi] = g.frags[q];
+        const Tile& tile = g.psf.tiles[ti];
+        const Fragment& fr = tile.fragments[fi];
+        fn(tile, fr, g.tile_base[ti] + fr.ray_offset);
+    }
+}
+
+namespace transport_detail {
+
+// Directions are split into this many fixed chunks, independent of the thread count;
+// chunk accumulators are reduced in chunk order (determinism).
+inline constexpr int kChunks = 16;
+// Chunks processed (and their P^N accumulators alive) at a time; any value gives the same
+// sums, since the reduction is always in chunk order.
+inline constexpr int kWave = 4;
+
+// The mean of the three channels.
+inline double luminance(const Rgb& c) {
+    return (c.x + c.y + c.z) / 3.0;
+}
+
+using Clock = std::chrono::steady_clock;
+inline double since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// CPU seconds inside a pass, by step (TransportTimings).
+struct StepTimes {
+    double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
+};
+
+// One worker's buffers, reused from direction to direction.
+struct Scratch {
+    std::vector<Rgb> out, in;  // per slot: power sent along the ray, power arriving on it
+    std::unique_ptr<DirectionGeometry> local;  // where a direction's geometry is built
+    TileExchange x;
+    ExchangeScratch xs;
+    FaceRaster coarse;  // super-sampling: the face on the N x N grid
+    std::vector<int32_t> coarse_index;
+    std::vector<Rgb> parent_sum;
+    std::vector<int> parent_count;
+};
+
+// What one chunk of directions adds to the pass; reduced in chunk order.
+struct ChunkResult {
+    std::vector<Rgb> next;  // P^N
+    Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
+    NumericalLoss lost;
+    std::vector<SpecularSource> sources;
+    StepTimes times;
+    // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
+    void reset(size_t texels) {
+        next.assign(texels, Rgb(0.0));
+        absorbed = absorbed_back = escaped = Rgb(0.0);
+        lost = NumericalLoss{};
+        sources.clear();
+        times = StepTimes{};
+    }
+};
+
+// What a direction's geometry is built from (geometry_cache.cpp).
+struct GeometryInputs {
+    const Scene& scene;
+    const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
+    double seal_gap;                                 // exchange.hpp kSealed
+    int N, m;                                        // the exchange grid
+    // A pass whose geometry is used once clips only the rays of these faces (per face,
+    // nonzero: sends) and their partners; null clips every ray.
+    const uint8_t* sending;
+};
+
+// This pass's part of the transport's geometry cache.
+struct GeometryCache {
+    std::unique_ptr<DirectionGeometry>* slots;  // per direction of the pass
+    std::atomic<int64_t>& used;                 // bytes held by the whole cache
+    int64_t budget;                             // bytes; 0 keeps nothing
+};
+
+// The geometry of direction d: the cached copy, or built in the worker's scratch (and
+// kept in the cache while it fits the budget).
+const DirectionGeometry& direction_geometry(const GeometryInputs& in, const GeometryCache& cache,
+                                            const Mat3& rot, int d, Scratch& w, StepTimes& times);
+
+// Which faces send diffuse power in a pass, and what they send.
+struct Senders {
+    std::vector<uint8_t> sends;    // per face
+    std::vector<Rgb> face_unshot;  // per face: its unshot power U (zero if it does not send)
+    std::vector<Rgb> exitance;     // per texel: unshot exitance of the sending faces
+};
+Senders find_senders(const Scene& scene, const TextureMaps& tex,
+                     const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm);
+
+// What every step of one pass reads, and the radiance maps its senders write.
+struct PassContext {
+    const Scene& scene;
+    const DirectionSet& dirs;
+    const std::vector<uint32_t>& coverage;  // d * faces + f, on the N x N grid
+    const TextureMaps& tex;
+    RadianceMaps& spec;                    // L_U, L_T of specular faces
+    RadianceMaps& other;                   // L_T of the other faces (--store-all-rays)
+    const std::vector<Mat3>& rotations;    // per direction of the pass
+    const std::vector<double>& send_norm;  // per face
+    const Senders& senders;
+    double share;          // 1 / the passes of the cycle: what each pass sends of a share
+    bool true_directions;  // pass 0: radiance maps are read and written
+    int s;                 // super-sampling
+    int Nc, mc;            // the radiance-map grid
+    int N, m;              // the exchange grid, s times finer
+};
+
+// One direction of a pass, as its steps see it.
+struct PassDirection {
+    int d;
+    const DirectionGeometry& g;
+    double beam;  // a * Delta_d: a ray's cross-section times the direction's solid angle
+};
+
+// The steps of a pass for one direction, run in this order; power moves from step to step
+// in w.out (per slot: sent along the ray) and w.in (per slot: arriving on it).
+// VLF §4.4 eq. (3), §4.1 line 9 (send_step.cpp): the senders load w.out.
+void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res);
+// VLF §4.1 lines 5-8 (receive_step.cpp): w.out along each ray to its partner's w.in.
+void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res);
+// VLF §4.1 line 10, §4.2-4.3 (receive_step.cpp): the receivers take w.in.
+void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
+                  ChunkResult& res);
+
+}  // namespace transport_detail
+
+// Buffers that live as long as the transport: one Scratch per worker thread and the
+// chunk accumulators of a wave, reused by every pass of every cycle (their contents are
+// overwritten, so reuse never changes a result).
+struct Transport::Workspace {
+    tbb::enumerable_thread_specific<transport_detail::Scratch> scratch;
+    std::vector<transport_detail::ChunkResult> chunks;
+};
+
+}  // namespace vlf
