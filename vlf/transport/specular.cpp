@@ -85,13 +85,13 @@ Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
         std::stable_sort(v.begin(), v.end(),
                          [](const TargetRef& a, const TargetRef& b) { return a.face < b.face; });
 
-    const double ray_area = 4.0 / (double(N) * N);
+    const double a = ray_area(N);
     std::vector<Rgb> rounding(dirs.size(), Rgb(0.0));  // per target direction
     parallel_for(0, dirs.size(), [&](long d) {
         const auto& refs = by_direction[d];
         if (refs.empty()) return;
         const Mat3& rot = rotations[d];
-        const double beam = ray_area * dirs.solid_angle(static_cast<int>(d));  // a * Delta
+        const double beam = a * dirs.solid_angle(static_cast<int>(d));  // a * Delta
         FaceRaster fr;
         std::vector<Vec3> points;  // scene-frame points of the face's rays
         std::vector<Rgb> acc, g;
