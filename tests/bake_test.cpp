@@ -15,6 +15,7 @@
 #include <iterator>
 #include <string>
 
+#include "test_util.hpp"
 #include "vlf/bake/scene_json.hpp"
 #include "vlf/core/checksum.hpp"
 #include "vlf/core/error.hpp"
@@ -27,62 +28,7 @@ namespace fs = std::filesystem;
 namespace vlf {
 namespace {
 
-// --- SHA-256 against the FIPS 180-4 / NIST example vectors -------------------------------
-
-TEST(BakeChecksum, KnownVectors) {
-    EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-    EXPECT_EQ(sha256_hex("abc"),
-              "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-    EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
-              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-    EXPECT_EQ(sha256_hex("abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnop"
-                         "jklmnopqklmnopqrlmnopqrsmnopqrstnopqrstu"),
-              "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1");
-    Sha256 million;  // one million 'a', fed in uneven pieces to exercise the buffering
-    const std::string chunk(997, 'a');
-    size_t left = 1000000;
-    while (left > 0) {
-        const size_t n = std::min(left, chunk.size());
-        million.update(chunk.data(), n);
-        left -= n;
-    }
-    EXPECT_EQ(million.hex_digest(),
-              "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
-}
-
-TEST(BakeChecksum, BlockBoundaries) {
-    // Lengths around the 55/56/64-byte padding boundaries: incremental == one-shot.
-    for (size_t n : {55u, 56u, 57u, 63u, 64u, 65u, 119u, 120u, 128u}) {
-        const std::string s(n, 'x');
-        Sha256 h;
-        for (char c : s) h.update(&c, 1);
-        EXPECT_EQ(h.hex_digest(), sha256_hex(s)) << n;
-    }
-    EXPECT_NE(sha256_hex(std::string(55, 'x')), sha256_hex(std::string(56, 'x')));
-}
-
 // --- a small propagated scene --------------------------------------------------------------
-
-// A closed room (box seen from inside), a lamp under the ceiling and a tilted mirror facing
-// the room (+x side, counter-clockwise seen from there), so specular radiance maps exist.
-const char* kScene = R"({
-  "settings": {"units": "m", "texel_size": 0.25},
-  "materials": {
-    "white":  {"diffuse": [0.7, 0.7, 0.7]},
-    "mirror": {"specular": [0.9, 0.9, 0.9]},
-    "lamp":   {"diffuse": [0.5, 0.5, 0.5], "emission": [10.0, 8.0, 6.0]}
-  },
-  "objects": [
-    {"name": "room", "type": "box", "min": [-1, 0, -1], "max": [1, 2, 1], "flip": true,
-     "material": "white"},
-    {"name": "lamp", "type": "polygon", "material": "lamp",
-     "vertices": [[0.3, 1.95, -0.3], [0.3, 1.95, 0.3], [-0.3, 1.95, 0.3], [-0.3, 1.95, -0.3]]},
-    {"name": "mirror", "type": "polygon", "material": "mirror",
-     "vertices": [[-0.9, 1.2, -0.5], [-0.6, 1.2, 0.5], [-0.6, 0.2, 0.5], [-0.9, 0.2, -0.5]]}
-  ],
-  "cameras": [{"name": "default", "eye": [0, 1, -0.9], "look_at": [0, 1, 0], "up": [0, 1, 0],
-               "fov_y_deg": 60}]
-})";
 
 PropagateParams small_params() {
     PropagateParams p;
@@ -102,7 +48,9 @@ struct Fixture {
     Propagation run;
     nlohmann::json report;
     Fixture() {
-        scene = load_scene_from_string(kScene, "bake-test.json", ".");
+        // tests/scenes/bake-room.json: a closed room (box seen from inside), a lamp under
+        // the ceiling and a tilted mirror facing the room, so specular radiance maps exist.
+        scene = load_scene(test::source_path("tests/scenes/bake-room.json"));
         params = small_params();
         run = propagate(scene, params, {});
         report = propagation_report(scene, params, run, 0.0);
