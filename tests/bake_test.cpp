@@ -109,6 +109,16 @@ class BakeBundle : public ::testing::Test {
         std::ofstream out(file(name), std::ios::trunc);
         out << j.dump(1);
     }
+    // Replaces scene.json and gives the manifest its true size and checksum, so only the
+    // content checks can refuse it.
+    void write_scene_with_checksum(const nlohmann::json& scene) {
+        write_json("scene.json", scene);
+        nlohmann::json m = read_json("manifest.json");
+        uint64_t bytes = 0;
+        m["files"]["scene.json"]["sha256"] = sha256_file(file("scene.json").string(), bytes);
+        m["files"]["scene.json"]["bytes"] = bytes;
+        write_json("manifest.json", m);
+    }
 
     fs::path m_dir;
     std::string m_bundle;
@@ -432,12 +442,7 @@ TEST_F(BakeBundle, SceneFromAnotherBundle) {
     written();
     nlohmann::json s = read_json("scene.json");
     s["normalisation"]["scale"] = s["normalisation"]["scale"].get<double>() * 2;
-    write_json("scene.json", s);
-    nlohmann::json m = read_json("manifest.json");
-    uint64_t bytes = 0;
-    m["files"]["scene.json"]["sha256"] = sha256_file(file("scene.json").string(), bytes);
-    m["files"]["scene.json"]["bytes"] = bytes;
-    write_json("manifest.json", m);
+    write_scene_with_checksum(s);
     expect_refused({m_bundle, "scene.json", "manifest does not match its files"});
 }
 
@@ -445,14 +450,7 @@ TEST_F(BakeBundle, SceneFromAnotherBundle) {
 TEST_F(BakeBundle, SceneJsonWithAnUnknownKeyOrWrongType) {
     written();
     const nlohmann::json original = read_json("scene.json");
-    auto write_scene = [&](const nlohmann::json& s) {
-        write_json("scene.json", s);
-        nlohmann::json m = read_json("manifest.json");
-        uint64_t bytes = 0;
-        m["files"]["scene.json"]["sha256"] = sha256_file(file("scene.json").string(), bytes);
-        m["files"]["scene.json"]["bytes"] = bytes;
-        write_json("manifest.json", m);
-    };
+    auto write_scene = [&](const nlohmann::json& s) { write_scene_with_checksum(s); };
     nlohmann::json s = original;
     s["faces"][2]["texels"]["colour"] = 1;
     write_scene(s);
