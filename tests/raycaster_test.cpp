@@ -112,6 +112,34 @@ TEST(RayCaster, CubeFromInsideAndOutside) {
     EXPECT_FALSE(rc.intersect(o, {1, 0, 0}, 2.0, 1.0, h));
 }
 
+// A two-sided panel is a face and its reversed twin on one polygon: a ray from either side
+// hits the face whose front it meets, never the one it sees from behind (which the
+// renderers would shade black).
+TEST(RayCaster, TwoSidedPanelShowsTheSideTheRayMeets) {
+    const Scene s = load_scene_from_string(R"({
+      "materials": {"w": {"diffuse": [0.5, 0.5, 0.5], "emission": [1, 1, 1]}},
+      "objects": [{"type": "polygon", "material": "w", "two_sided": true,
+                   "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}]
+    })",
+                                           "two-sided.json", ".");
+    ASSERT_EQ(s.faces.size(), 2u);
+    ASSERT_EQ(s.faces[0].twin, 1);
+    const RayCaster rc(s);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.3, 0.3);  // the panel spans +-0.707 here
+    int hits = 0;
+    for (int k = 0; k < 200; ++k)
+        for (double side : {1.0, -1.0}) {
+            const Vec3 o(u(rng), u(rng), side * 0.5);
+            const Vec3 d = Vec3(u(rng), u(rng), -side) - Vec3(0.0);
+            RayHit h;
+            ASSERT_TRUE(rc.intersect(o, d, 0.0, 1e30, h));
+            EXPECT_LT(glm::dot(s.faces[h.face].normal, d), 0.0) << "ray " << k << " side " << side;
+            ++hits;
+        }
+    EXPECT_EQ(hits, 400);
+}
+
 TEST(RayCaster, EmptySceneMissesEverything) {
     Scene s;
     const RayCaster rc(s);

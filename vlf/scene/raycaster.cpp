@@ -183,6 +183,11 @@ bool RayCaster::intersect(const Vec3& origin, const Vec3& dir, double tmin, doub
     rtcIntersect1(m_impl->scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.face = m_impl->face_of[rh.hit.primID];
+    // A two-sided surface is a face and its reversed twin on one polygon; which of the two
+    // Embree reports is arbitrary. The side a ray meets is the one facing it.
+    if (const int twin = m_scene.faces[hit.face].twin;
+        twin >= 0 && glm::dot(m_scene.faces[hit.face].normal, dir) > 0.0)
+        hit.face = twin;
     // Refine t in double precision on the face's plane (Embree's float t is good to about
     // 1e-7 of the ray length; the plane gives the exact point on the face).
     const Face& f = m_scene.faces[hit.face];
