@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <cstdio>
 #include <string>
 
@@ -14,6 +13,7 @@
 #include "vlf/core/memory.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
+#include "vlf/core/stopwatch.hpp"
 #include "vlf/field/field_stats.hpp"
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/parameters.hpp"
@@ -106,13 +106,12 @@ int run(Options o, const CLI::App& app) {
         }
     };
     vlf::Propagation run = vlf::propagate(scene, p, run_opts);
-    const auto t0 = std::chrono::steady_clock::now();
+    const vlf::Stopwatch write_time;
     nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0);
     // The light field goes from the radiance maps to the file one direction at a time.
     const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report, false);
     vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));
-    const double write_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double write_s = write_time.seconds();
     vlf::set_write_time(report["timings_s"], run, write_s);
     // peak_rss of the propagation_report is before the bake was assembled and written.
     report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];

@@ -30,12 +30,7 @@ struct Baked {
 std::unique_ptr<Baked> bake_mirror_room() {
     auto b = std::make_unique<Baked>();
     b->scene = load_scene(test::source_path("tests/scenes/mirror-room.json"));
-    PropagateParams p;
-    p.field.directions = 129;
-    p.field.resolution = 32;
-    p.field.tile = 8;
-    p.cycles = 3;
-    p.resample = false;
+    const PropagateParams p = test::params(129, 32, 8, 3, true);
     b->run = propagate(b->scene, p, RunOptions{});
     return b;
 }
@@ -151,12 +146,7 @@ TEST(Resample, MirrorsSeenInMirrorsAndMixedMaterials) {
     // between them; the value must still be the own diffuse part + rho_s * the traced
     // value, checked one step deep.
     const Scene s = load_scene(test::source_path("tests/scenes/two-mirrors.json"));
-    PropagateParams p;
-    p.field.directions = 33;
-    p.field.resolution = 32;
-    p.field.tile = 8;
-    p.cycles = 2;
-    p.resample = false;
+    const PropagateParams p = test::params(33, 32, 8, 2, true);
     Propagation run = propagate(s, p, RunOptions{});
     Transport& t = *run.transport;
     const RayCaster rc(s);

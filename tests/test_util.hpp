@@ -9,6 +9,7 @@
 #include "vlf/bake/bake.hpp"
 #include "vlf/render/image_io.hpp"
 #include "vlf/scene/scene.hpp"
+#include "vlf/transport/parameters.hpp"
 
 namespace vlf::test {
 
@@ -77,6 +78,18 @@ inline Image gradient(int w, int h) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) im.at(x, y) = Rgb(0.01 * x, 0.5 + y, 1000.0 / (1 + x + y));
     return im;
+}
+
+// A small run: l directions, N x N rays in m x m tiles, `cycles` cycles, no resampling.
+inline PropagateParams params(int l, int N, int m, int cycles, bool deferred = false) {
+    PropagateParams p;
+    p.field.directions = l;
+    p.field.resolution = N;
+    p.field.tile = m;
+    p.cycles = cycles;
+    p.deferred = deferred;
+    p.resample = false;
+    return p;
 }
 
 }  // namespace vlf::test

@@ -20,16 +20,7 @@
 namespace vlf {
 namespace {
 
-PropagateParams params(int l, int N, int m, int cycles, bool deferred = false) {
-    PropagateParams p;
-    p.field.directions = l;
-    p.field.resolution = N;
-    p.field.tile = m;
-    p.cycles = cycles;
-    p.deferred = deferred;
-    p.resample = false;
-    return p;
-}
+using test::params;
 
 std::unique_ptr<Transport> run(const Scene& scene, const PropagateParams& p) {
     auto t = std::make_unique<Transport>(scene, p);

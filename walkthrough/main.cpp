@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +18,7 @@
 #include "vlf/core/files.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
+#include "vlf/core/stopwatch.hpp"
 #include "vlf/render/camera.hpp"
 #include "vlf/render/image_metrics.hpp"
 #include "vlf/render/render.hpp"
@@ -131,10 +131,9 @@ int run_path(const Options& o, const vlf::Renderer& renderer, const vlf::RenderS
     std::vector<double> seconds;
     vlf::Progress bar("frames", path.frames, vlf::Progress::stderr_is_terminal());
     for (int k = 0; k < path.frames; ++k) {
-        const auto t0 = std::chrono::steady_clock::now();
+        const vlf::Stopwatch frame_time;
         const vlf::Image im = renderer.render(path.frame(k), rs);
-        seconds.push_back(
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        seconds.push_back(frame_time.seconds());
         vlf::write_image((dir / fmt::format("frame_{:04d}.{}", k, o.format)).string(), im,
                          o.exposure);
         bar.advance();
@@ -197,11 +196,10 @@ int run(const Options& o) {
     }
 
     const vlf::ThreadLimit limit(o.threads);
-    const auto l0 = std::chrono::steady_clock::now();
+    const vlf::Stopwatch load_time;
     const vlf::Bake bake = vlf::read_bake(o.bake);
     const vlf::Renderer renderer(bake);
-    std::printf("walkthrough: loaded %s in %.3f s\n", o.bake.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - l0).count());
+    std::printf("walkthrough: loaded %s in %.3f s\n", o.bake.c_str(), load_time.seconds());
     if (!o.path.empty()) {
         if (!o.camera.empty() || o.has_eye || o.has_look_at)
             throw vlf::ParameterError("--path: cannot be combined with --camera/--eye/--look-at");
@@ -215,9 +213,9 @@ int run(const Options& o) {
         throw vlf::Error("--interactive: this build has no window support (GLFW not found)");
 #endif
     }
-    const auto t0 = std::chrono::steady_clock::now();
+    const vlf::Stopwatch render_time;
     const vlf::Image im = renderer.render(cam, rs);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double s = render_time.seconds();
     vlf::write_image(o.output, im, o.exposure);
     if (!o.reference.empty()) {
         const vlf::PixelMask emitters =

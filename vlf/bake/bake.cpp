@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "vlf/bake/atlas.hpp"
 #include "vlf/bake/bundle_parts.hpp"
@@ -14,6 +13,7 @@
 #include "vlf/bake/lightmaps_exr.hpp"
 #include "vlf/bake/scene_json.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/core/files.hpp"
 #include "vlf/core/json_reader.hpp"
 #include "vlf/transport/transport.hpp"
 
@@ -59,14 +59,6 @@ Bake make_bake(const Scene& scene, const PropagateParams& params, const Transpor
 
 namespace {
 
-void write_text(const fs::path& file, const std::string& text) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot be created");
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) throw Error("write failed");
-}
-
 // A bundle being replaced must be one: never delete an unrelated directory.
 void check_replaceable(const fs::path& dest) {
     std::error_code ec;
@@ -81,7 +73,7 @@ void check_replaceable(const fs::path& dest) {
 void write_parts(const fs::path& dir, const Bake& bake, const RaySource& rays, std::string& step) {
     json manifest = bake.manifest;
     step = kSceneFile;
-    write_text(dir / kSceneFile, scene_to_json(bake.scene).dump(1) + "\n");
+    write_text((dir / kSceneFile).string(), scene_to_json(bake.scene).dump(1) + "\n");
 
     step = kLightmapsFile;
     const Atlas atlas = pack_atlas(bake.scene);
@@ -96,7 +88,7 @@ void write_parts(const fs::path& dir, const Bake& bake, const RaySource& rays, s
 
     step = kManifestFile;
     record_checksums(manifest, dir.string());
-    write_text(dir / kManifestFile, manifest.dump(1) + "\n");
+    write_text((dir / kManifestFile).string(), manifest.dump(1) + "\n");
 }
 
 // Renames the finished `partial` to `dest`. The old bundle is moved aside first (a

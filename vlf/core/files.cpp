@@ -51,14 +51,16 @@ void write_atomically(const std::string& path,
     if (ec) fail("cannot rename into place: " + ec.message());
 }
 
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(fmt::format("cannot write: {}", std::strerror(errno)));
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.close();
+    if (!out) throw Error("write failed");
+}
+
 void write_text_atomically(const std::string& path, const std::string& text) {
-    write_atomically(path, [&](const std::string& partial) {
-        std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-        if (!out) throw Error(fmt::format("cannot write: {}", std::strerror(errno)));
-        out << text;
-        out.close();
-        if (!out) throw Error("write failed");
-    });
+    write_atomically(path, [&](const std::string& partial) { write_text(partial, text); });
 }
 
 }  // namespace vlf

@@ -20,7 +20,11 @@ void check_output_path(const std::string& path);
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& partial)>& write);
 
-// write_atomically() of a text file.
+// Writes `text` to `path` as it is (no temporary): Error("cannot write: ..." or "write
+// failed"), without the path, for the caller to place.
+void write_text(const std::string& path, const std::string& text);
+
+// write_atomically() of write_text().
 void write_text_atomically(const std::string& path, const std::string& text);
 
 }  // namespace vlf

@@ -1,9 +1,9 @@
 #include "vlf/field/field_stats.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "vlf/core/parallel.hpp"
+#include "vlf/core/stopwatch.hpp"
 
 namespace vlf {
 
@@ -19,7 +19,7 @@ struct DirectionTally {
 }  // namespace
 
 FieldStats measure_field(const Scene& scene, const FieldParams& params) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch clock;
     validate_raster(params.resolution, params.tile);
     const DirectionSet dirs(params.directions, params.scheme);
     std::vector<DirectionTally> tally(dirs.size());
@@ -71,7 +71,7 @@ FieldStats measure_field(const Scene& scene, const FieldParams& params) {
     int64_t texels = 0;
     for (const Face& f : scene.faces) texels += f.texels.count();
     s.memory.texture_maps = texels * 3 * 3 * static_cast<int64_t>(sizeof(double));
-    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    s.seconds = clock.seconds();
     return s;
 }
 

@@ -121,20 +121,18 @@ void clip_beams(const GeometryInputs& in, const Mat3& rot, const std::vector<uin
 // Builds the geometry of direction d into g (x, xs: exchange scratch).
 void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, DirectionGeometry& g,
                     TileExchange& x, ExchangeScratch& xs, StepTimes& times) {
-    auto t0 = Clock::now();
+    Stopwatch sw;
     rasterise_and_group(in.scene, rot, d, in.N, in.m, g);
-    times.rasterise += since(t0);
+    times.rasterise += sw.lap();
 
-    t0 = Clock::now();
     find_partners(in.scene, in.seal_gap, g, x, xs);
-    times.exchange += since(t0);
+    times.exchange += sw.lap();
 
-    t0 = Clock::now();
     const std::vector<uint8_t> needed =
         in.sending != nullptr ? rays_carrying_power(g, in.scene.faces.size(), in.sending)
                               : std::vector<uint8_t>();
     clip_beams(in, rot, needed, g);
-    times.clipping += since(t0);
+    times.clipping += sw.lap();
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
 #include "vlf/transport/propagation.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 
 #include "vlf/core/memory.hpp"
 #include "vlf/core/progress.hpp"
+#include "vlf/core/stopwatch.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/transport/report.hpp"
 #include "vlf/transport/resample.hpp"
@@ -20,7 +20,7 @@ bool settled(const LedgerEntry& e, double stop_unshot) {
 }
 
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const Stopwatch total;
     Propagation run;
     run.transport = std::make_unique<Transport>(scene, params);
     Progress bar("propagating", run.transport->work(params.cycles), opts.progress);
@@ -37,14 +37,12 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     // VLF §5: after the last cycle, resample the specular total maps along real
     // reflection paths (backward ray tracing), once.
     if (params.resample && scene.specular_face_count() > 0) {
-        const auto r0 = std::chrono::steady_clock::now();
+        const Stopwatch resample;
         const RayCaster caster(scene);
         resample_specular(*run.transport, caster);
-        run.seconds_resample =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+        run.seconds_resample = resample.seconds();
     }
-    run.seconds_total =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.seconds_total = total.seconds();
     return run;
 }
 

@@ -23,14 +23,14 @@ void run_direction(const PassContext& pc, const GeometryInputs& in, const Geomet
     // 1. The geometry: PSF, exchange partners, beam/texel overlaps (§3, §4.1, §4.2).
     const DirectionGeometry& g = direction_geometry(in, cache, pc.rotations[d], d, w, res.times);
     const PassDirection pd{d, g, g.psf.ray_area() * pc.dirs.solid_angle(d)};
-    const auto t0 = Clock::now();
+    const Stopwatch transfer;
     // 2. Senders load their rays (§4.4 eq. (3), §4.1 line 9).
     send_step(pc, pd, w, res);
     // 3. Exchange along every ray (§4.1 lines 5-8).
     exchange_step(pd, w, res);
     // 4. Receivers: P^N, absorption, specular sources (§4.1 line 10, §4.2-4.3).
     receive_step(pc, pd, w, res);
-    res.times.transfer += since(t0);
+    res.times.transfer += transfer.seconds();
 }
 
 }  // namespace
@@ -90,7 +90,7 @@ void Transport::choose_deferred(bool last) {
 }
 
 void Transport::run_pass(int pass, double share) {
-    const auto pass_start = Clock::now();
+    const Stopwatch pass_time;
     const Pass& directions = m_passes[pass];
     const int l = static_cast<int>(directions.rotations.size());
     const int s = m_params.supersample;
@@ -146,12 +146,12 @@ void Transport::run_pass(int pass, double share) {
         });
         reduce_chunks(std::min(kWave, kChunks - wave), sources);
     }
-    m_timings.passes += since(pass_start);
+    m_timings.passes += pass_time.seconds();
     // Then the reflected light of the pass into the mirrors' unshot maps (specular.hpp).
-    const auto t0 = Clock::now();
+    const Stopwatch specular;
     if (!sources.empty())
         m_running.lost.rounding += gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
-    m_timings.specular += since(t0);
+    m_timings.specular += specular.seconds();
 }
 
 // The reductions of a wave, in chunk order (DESIGN §5 Parallelism): P^N, the ledger, the
@@ -177,13 +177,13 @@ void Transport::fold_unshot_into_total() {
 }
 
 void Transport::run_cycle(bool last) {
-    auto t0 = Clock::now();
+    Stopwatch sw;
     LedgerEntry e;
     e.cycle = cycles_done() + 1;
     if (e.cycle == 1) load_emission(m_running);
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
-    m_timings.bookkeeping += since(t0);
+    m_timings.bookkeeping += sw.lap();
 
     // VLF §5: the first few cycles perturb (their light comes from the emitters, small and
     // bright, whose beams leave the holes); the later ones run the true directions only.
@@ -193,11 +193,10 @@ void Transport::run_cycle(bool last) {
     if (perturb && e.cycle == m_params.perturb_cycles) release_perturbed_geometry();
 
     // End of cycle: pool, filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
-    t0 = Clock::now();
+    sw.lap();
     pool_rim_texels(m_pools, m_scene, m_tex, m_tex.next);
     if (m_params.filter_sigma > 0.0) gaussian_filter_next(m_scene, m_tex, m_params.filter_sigma);
-    m_timings.filter += since(t0);
-    t0 = Clock::now();
+    m_timings.filter += sw.lap();
     Rgb unshot(0.0), deferred(0.0);
     swap_maps(unshot, deferred);
     const double u = to_user_power();
@@ -209,7 +208,7 @@ void Transport::run_cycle(bool last) {
     e.unshot = unshot * u;
     e.deferred = deferred * u;
     m_ledger.push_back(e);
-    m_timings.bookkeeping += since(t0);
+    m_timings.bookkeeping += sw.lap();
 }
 
 // VLF §4.1 closing lines: P^T += P^N; P^C <- P^N, or += P^N for deferred faces (§4.5);

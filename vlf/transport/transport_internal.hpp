@@ -7,12 +7,12 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <atomic>
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <utility>
 #include <vector>
 
+#include "vlf/core/stopwatch.hpp"
 #include "vlf/field/direction_set.hpp"
 #include "vlf/field/exchange.hpp"
 #include "vlf/field/psf.hpp"
@@ -66,11 +66,6 @@ inline constexpr int kWave = 4;
 // The mean of the three channels.
 inline double luminance(const Rgb& c) {
     return (c.x + c.y + c.z) / 3.0;
-}
-
-using Clock = std::chrono::steady_clock;
-inline double since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 // CPU seconds inside a pass, by step (TransportTimings).

@@ -11,9 +11,7 @@
 
 namespace vlf {
 
-using transport_detail::Clock;
 using transport_detail::luminance;
-using transport_detail::since;
 
 std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
                                        int N, int m) {
@@ -88,7 +86,7 @@ Transport::Pass Transport::make_pass(int p) const {
 Transport::Transport(const Scene& scene, const PropagateParams& params)
     : m_scene(scene), m_params(params), m_dirs(params.field.directions, params.field.scheme) {
     validate(params);
-    const auto t0 = Clock::now();
+    const Stopwatch setup;
     const int l = m_dirs.size();
     m_rot.resize(l);
     for (int d = 0; d < l; ++d) m_rot[d] = rotation_to_z(m_dirs.direction(d));
@@ -112,7 +110,7 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
     m_work = std::make_unique<Workspace>();
-    m_timings.setup = since(t0);
+    m_timings.setup = setup.seconds();
 }
 
 Transport::~Transport() = default;
