@@ -130,6 +130,31 @@ void expect_same_vec(const Vec3& a, const Vec3& b) {
     EXPECT_EQ(a.z, b.z);
 }
 
+// A two-sided face and its reverse twin survive the round trip through scene.json: the
+// walkthrough's ray caster shows, of the two, the side a ray meets, which it can only do
+// when it knows they are twins (without them one side of every two-sided face rendered
+// black from the bake). A one-way twin is refused.
+TEST(BakeSceneJson, KeepsTwoSidedTwins) {
+    const Scene a = load_scene(test::source_path("tests/scenes/contact-room.json"));
+    int twins = 0;
+    for (const Face& f : a.faces) twins += f.twin >= 0;
+    ASSERT_GT(twins, 0);
+    const Scene b = scene_from_json(scene_to_json(a), "scene.json");
+    for (size_t f = 0; f < a.faces.size(); ++f) EXPECT_EQ(b.faces[f].twin, a.faces[f].twin);
+    nlohmann::json j = scene_to_json(a);
+    for (auto& f : j["faces"])
+        if (f.contains("twin")) {
+            f.erase("twin");
+            break;
+        }
+    try {
+        scene_from_json(j, "scene.json");
+        ADD_FAILURE() << "a one-way twin was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("as its twin"), std::string::npos) << e.what();
+    }
+}
+
 TEST(BakeMake, RaysMatchTheSpecularMaps) {
     const Fixture& fx = fixture();
     const Bake& b = fx.bake;
@@ -214,6 +239,7 @@ TEST_F(BakeBundle, RoundTrip) {
         EXPECT_EQ(fa.texel_area, fb.texel_area);
         EXPECT_EQ(fa.material, fb.material);
         EXPECT_EQ(fa.object, fb.object);
+        EXPECT_EQ(fa.twin, fb.twin);
     }
     ASSERT_EQ(b.scene.materials.size(), a.scene.materials.size());
     for (size_t k = 0; k < a.scene.materials.size(); ++k) {

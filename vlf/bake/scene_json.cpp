@@ -21,21 +21,23 @@ json face_json(const Face& f) {
     json verts = json::array();
     for (const Vec3& v : f.vertices) verts.push_back(vec_json(v));
     const TexelFrame& t = f.texels;
-    return {{"id", f.id},
-            {"object", f.object},
-            {"material", f.material},
-            {"vertices", verts},
-            {"normal", vec_json(f.normal)},
-            {"plane_offset", f.plane_offset},
-            {"area", f.area},
-            {"texels",
-             {{"origin", vec_json(t.origin)},
-              {"axis_u", vec_json(t.axis_u)},
-              {"axis_v", vec_json(t.axis_v)},
-              {"size", t.size},
-              {"width", t.width},
-              {"height", t.height}}},
-            {"texel_area", f.texel_area}};
+    json j = {{"id", f.id},
+              {"object", f.object},
+              {"material", f.material},
+              {"vertices", verts},
+              {"normal", vec_json(f.normal)},
+              {"plane_offset", f.plane_offset},
+              {"area", f.area},
+              {"texels",
+               {{"origin", vec_json(t.origin)},
+                {"axis_u", vec_json(t.axis_u)},
+                {"axis_v", vec_json(t.axis_v)},
+                {"size", t.size},
+                {"width", t.width},
+                {"height", t.height}}},
+              {"texel_area", f.texel_area}};
+    if (f.twin >= 0) j["twin"] = f.twin;  // two-sided: the reverse face
+    return j;
 }
 
 }  // namespace
@@ -112,15 +114,17 @@ TexelFrame read_texels(const JsonReader& r) {
     return t;
 }
 
-Face read_face(const JsonReader& r, size_t index, const Scene& s) {
+Face read_face(const JsonReader& r, size_t index, size_t face_count, const Scene& s) {
     r.only_keys({"id", "object", "material", "vertices", "normal", "plane_offset", "area", "texels",
-                 "texel_area"});
+                 "texel_area", "twin"});
     Face f;
     const JsonReader id = r.required("id");
     f.id = id.integer(0);
     if (f.id != static_cast<int>(index)) id.fail(fmt::format("id {} is not its index", f.id));
     f.object = r.required("object").integer(0, static_cast<int>(s.objects.size()) - 1);
     f.material = r.required("material").integer(0, static_cast<int>(s.materials.size()) - 1);
+    if (const auto twin = r.optional("twin"))
+        f.twin = twin->integer(0, static_cast<int>(face_count) - 1);
     for (const JsonReader& v : r.required("vertices").elements(3)) f.vertices.push_back(v.vec3());
     f.normal = r.required("normal").vec3();
     f.plane_offset = r.required("plane_offset").number();
@@ -166,7 +170,12 @@ Scene scene_from_json(const json& j, const std::string& file) {
     const std::vector<JsonReader> objects = r.required("objects").elements();
     for (const JsonReader& o : objects) s.objects.push_back(read_object(o));
     const std::vector<JsonReader> faces = r.required("faces").elements(1);
-    for (size_t k = 0; k < faces.size(); ++k) s.faces.push_back(read_face(faces[k], k, s));
+    for (size_t k = 0; k < faces.size(); ++k)
+        s.faces.push_back(read_face(faces[k], k, faces.size(), s));
+    for (const Face& f : s.faces)
+        if (f.twin >= 0 && (f.twin == f.id || s.faces[f.twin].twin != f.id))
+            faces[size_t(f.id)].required("twin").fail(
+                fmt::format("face {} does not name face {} as its twin", f.twin, f.id));
     for (size_t k = 0; k < s.objects.size(); ++k) {
         const SceneObject& o = s.objects[k];
         if (size_t(o.first_face) + size_t(o.face_count) > s.faces.size())
