@@ -83,14 +83,15 @@ BENCHMARK(BM_RayLookup);
 void BM_LightmapLookup(benchmark::State& state) {
     const SmallBake& sb = small_bake();
     const vlf::Face& f = sb.bake.scene.faces[2];  // back wall
-    const vlf::Rgb* rad = sb.bake.lightmap_radiance.data() + sb.bake.texel_offset[f.id];
+    const vlf::Chart& c = sb.bake.scene.chart_of(f);
+    const vlf::Rgb* rad = sb.bake.lightmap_radiance.data() + sb.bake.texel_offset[f.chart];
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(0.05, 0.95);
     std::vector<vlf::Vec3> pts(1024);
     for (auto& p : pts)
-        p = f.texels.to_plane(vlf::Vec2(u(rng) * f.texels.width, u(rng) * f.texels.height));
+        p = c.texels.to_plane(vlf::Vec2(u(rng) * c.texels.width, u(rng) * c.texels.height));
     size_t k = 0;
-    for (auto _ : state) benchmark::DoNotOptimize(vlf::sample_lightmap(f, rad, pts[k++ & 1023]));
+    for (auto _ : state) benchmark::DoNotOptimize(vlf::sample_lightmap(c, rad, pts[k++ & 1023]));
 }
 BENCHMARK(BM_LightmapLookup);
 

@@ -79,6 +79,7 @@ int run(Options o, const CLI::App& app) {
     vlf::LoadOptions load;
     load.texel_size_user = p.texel_size;
     load.texel_divisions = p.texel_divisions;
+    load.chart_angle_deg = p.chart_angle_deg;
     const vlf::Scene scene = vlf::load_scene(o.scene, load);
     vlf::ThreadLimit limit(p.threads);
     std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
@@ -161,6 +162,10 @@ int main(int argc, char** argv) {
     app.add_option("--texel-divisions", o.params.texel_divisions,
                    "Default texel edge = scene radius / this, when neither --texel-size nor "
                    "the scene gives one")
+        ->capture_default_str();
+    app.add_option("--chart-angle", o.params.chart_angle_deg,
+                   "Faces share a chart's texels while their normals lie within this many "
+                   "degrees (0: a texel grid per face; docs/charts.md)")
         ->capture_default_str();
     app.add_option("-c,--cycles", o.params.cycles,
                    "Propagation cycles (with --stop-unshot: the most cycles)")

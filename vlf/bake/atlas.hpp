@@ -1,6 +1,6 @@
-// atlas.hpp — where each face's texel grid sits in the lightmap atlas (DESIGN §6,
-// docs/bake-format.md "lightmaps.exr"): shelf packing, tallest faces first (ties by width,
-// then face id), a 1-texel gutter of zeros between rectangles, so the layout is a pure
+// atlas.hpp — where each chart's texel grid sits in the lightmap atlas (DESIGN §6,
+// docs/bake-format.md "lightmaps.exr"): shelf packing, tallest charts first (ties by width,
+// then chart id), a 1-texel gutter of zeros between rectangles, so the layout is a pure
 // function of the texel grids.
 #pragma once
 
@@ -10,14 +10,14 @@
 
 namespace vlf {
 
-// A face's rectangle in the atlas, in texels: texel (i, j) is atlas pixel (x + i, y + j).
+// A chart's rectangle in the atlas, in texels: texel (i, j) is atlas pixel (x + i, y + j).
 struct AtlasRect {
-    int face = 0, x = 0, y = 0, width = 0, height = 0;
+    int chart = 0, x = 0, y = 0, width = 0, height = 0;
 };
 
 struct Atlas {
     int width = 1, height = 1;
-    std::vector<AtlasRect> rects;  // per face, in face order
+    std::vector<AtlasRect> rects;  // per chart, in chart order
 };
 
 Atlas pack_atlas(const Scene& scene);

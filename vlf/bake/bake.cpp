@@ -43,9 +43,9 @@ Bake make_bake(const Scene& scene, const PropagateParams& params, const Transpor
     const TextureMaps& tex = transport.texture_maps();
     b.texel_offset = tex.offset;
     b.lightmap_radiance.resize(tex.texels());
-    for (const Face& f : scene.faces)
-        for (size_t t = 0; t < tex.count(f.id); ++t)
-            b.lightmap_radiance[tex.begin(f.id) + t] = tex.radiance(f, t);
+    for (const Chart& c : scene.charts)
+        for (size_t t = 0; t < tex.count(c.id); ++t)
+            b.lightmap_radiance[tex.begin(c.id) + t] = tex.radiance(c, t);
 
     // Stored rays as layered depth images, one direction at a time.
     if (with_rays)
@@ -151,9 +151,10 @@ void read_parts(const fs::path& dir, const BundleErrors& errors, Bake& bake, std
     step = kSceneFile;
     bake.scene = read_scene_file(errors);
     const size_t nf = bake.scene.faces.size();
-    bake.texel_offset.assign(nf + 1, 0);
-    for (size_t f = 0; f < nf; ++f)
-        bake.texel_offset[f + 1] = bake.texel_offset[f] + bake.scene.faces[f].texel_area.size();
+    const size_t nc = bake.scene.charts.size();
+    bake.texel_offset.assign(nc + 1, 0);
+    for (size_t c = 0; c < nc; ++c)
+        bake.texel_offset[c + 1] = bake.texel_offset[c] + bake.scene.charts[c].texel_area.size();
 
     step = kManifestFile;
     bake.params = manifest_parameters(bake.manifest, errors);

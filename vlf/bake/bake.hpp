@@ -34,8 +34,8 @@ struct Bake {
     PropagateParams params;
     DirectionSet directions{9};
     std::vector<Rgb>
-        lightmap_radiance;             // per texel of every face (TextureMaps order), P^T radiance
-    std::vector<size_t> texel_offset;  // faces + 1
+        lightmap_radiance;             // per texel of every chart (TextureMaps order), P^T radiance
+    std::vector<size_t> texel_offset;  // charts + 1
     RayImages rays;
 };
 

@@ -30,7 +30,7 @@ void write_lightmaps_exr(const std::string& file, const Atlas& atlas,
     for (auto& c : rgb) c.assign(w * h, half(0.0f));
     const float kHalfMax = 65504.0f;
     for (const AtlasRect& r : atlas.rects) {
-        const size_t base = texel_offset[r.face];
+        const size_t base = texel_offset[r.chart];
         for (int j = 0; j < r.height; ++j)
             for (int i = 0; i < r.width; ++i) {
                 const Rgb& v = radiance[base + size_t(j) * r.width + i];
@@ -72,7 +72,7 @@ std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<A
     for (const AtlasRect& a : rects)
         if (a.x < 0 || a.y < 0 || a.x + a.width > w || a.y + a.height > h)
             errors.mismatch(
-                part, fmt::format("face {}: rectangle outside the {}x{} atlas", a.face, w, h));
+                part, fmt::format("chart {}: rectangle outside the {}x{} atlas", a.chart, w, h));
     std::vector<float> rgb[3];
     Imf::FrameBuffer fb;
     for (int c = 0; c < 3; ++c) {
@@ -84,7 +84,7 @@ std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<A
     in.readPixels(0, h - 1);
     std::vector<Rgb> radiance(texel_offset.back(), Rgb(0.0));
     for (const AtlasRect& a : rects) {
-        const size_t base = texel_offset[a.face];
+        const size_t base = texel_offset[a.chart];
         for (int j = 0; j < a.height; ++j)
             for (int i = 0; i < a.width; ++i) {
                 const size_t px = size_t(a.y + j) * w + size_t(a.x + i);
@@ -92,7 +92,7 @@ std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<A
                 for (int c = 0; c < 3; ++c) {
                     v[c] = rgb[c][px];
                     if (!std::isfinite(v[c]))
-                        errors.fail(part, fmt::format("face {}: non-finite radiance", a.face));
+                        errors.fail(part, fmt::format("chart {}: non-finite radiance", a.chart));
                 }
             }
     }

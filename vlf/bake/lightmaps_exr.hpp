@@ -1,6 +1,6 @@
 // lightmaps_exr.hpp — lightmaps.exr, the diffuse total radiance P^T of every face as one
 // half-RGB atlas image (DESIGN §6; docs/bake-format.md): written from and read back into
-// the per-texel radiance of every face (TextureMaps order, texel_offset per face).
+// the per-texel radiance of every chart (TextureMaps order, texel_offset per chart).
 #pragma once
 
 #include <string>
@@ -12,7 +12,7 @@
 
 namespace vlf {
 
-// Writes the atlas: face f's texel (i, j) at pixel (x + i, y + j) of its rectangle, values
+// Writes the atlas: chart c's texel (i, j) at pixel (x + i, y + j) of its rectangle, values
 // clamped to the largest half, zeros elsewhere. Throws on OpenEXR errors.
 void write_lightmaps_exr(const std::string& file, const Atlas& atlas,
                          const std::vector<Rgb>& radiance, const std::vector<size_t>& texel_offset);

@@ -43,7 +43,7 @@ void record_layout(json& manifest, const Atlas& atlas, const FieldParams& field,
     json rects = json::array();
     for (const AtlasRect& r : atlas.rects)
         rects.push_back(
-            {{"face", r.face}, {"x", r.x}, {"y", r.y}, {"width", r.width}, {"height", r.height}});
+            {{"chart", r.chart}, {"x", r.x}, {"y", r.y}, {"width", r.width}, {"height", r.height}});
     manifest["lightmaps"] = rects;
     manifest["lightmap_atlas"] = {{"width", atlas.width}, {"height", atlas.height}};
     manifest["lightfield"] = {{"directions", field.directions},
@@ -162,8 +162,8 @@ void check_scene_frame(const json& manifest, const Scene& scene, const BundleErr
 namespace {
 
 AtlasRect read_rect(const JsonReader& r) {
-    r.only_keys({"face", "x", "y", "width", "height"});
-    return {r.required("face").integer(), r.required("x").integer(), r.required("y").integer(),
+    r.only_keys({"chart", "x", "y", "width", "height"});
+    return {r.required("chart").integer(), r.required("x").integer(), r.required("y").integer(),
             r.required("width").integer(), r.required("height").integer()};
 }
 
@@ -172,18 +172,18 @@ AtlasRect read_rect(const JsonReader& r) {
 std::vector<AtlasRect> manifest_rects(const json& manifest, const Scene& scene,
                                       const BundleErrors& errors) {
     const std::vector<JsonReader> list = reader(manifest, errors).required("lightmaps").elements();
-    if (list.size() != scene.faces.size())
-        errors.mismatch(kLightmapsFile, fmt::format("{} atlas rectangles for {} faces", list.size(),
-                                                    scene.faces.size()));
+    if (list.size() != scene.charts.size())
+        errors.mismatch(kLightmapsFile, fmt::format("{} atlas rectangles for {} charts",
+                                                    list.size(), scene.charts.size()));
     std::vector<AtlasRect> rects(list.size());
     for (size_t k = 0; k < list.size(); ++k) {
         const AtlasRect a = read_rect(list[k]);
-        if (a.face != static_cast<int>(k))
-            errors.mismatch(kLightmapsFile, fmt::format("lightmaps[{}] is face {}", k, a.face));
-        const TexelFrame& t = scene.faces[k].texels;
+        if (a.chart != static_cast<int>(k))
+            errors.mismatch(kLightmapsFile, fmt::format("lightmaps[{}] is chart {}", k, a.chart));
+        const TexelFrame& t = scene.charts[k].texels;
         if (a.width != t.width || a.height != t.height)
             errors.mismatch(kLightmapsFile,
-                            fmt::format("face {}: atlas rectangle {}x{}, texel grid {}x{}", k,
+                            fmt::format("chart {}: atlas rectangle {}x{}, texel grid {}x{}", k,
                                         a.width, a.height, t.width, t.height));
         rects[k] = a;
     }

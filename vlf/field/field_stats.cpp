@@ -69,7 +69,7 @@ FieldStats measure_field(const Scene& scene, const FieldParams& params) {
     // L_U and L_T, RGB float, per covered ray of a specular fragment.
     s.memory.radiance_maps = s.specular_rays * 2 * 3 * static_cast<int64_t>(sizeof(float));
     int64_t texels = 0;
-    for (const Face& f : scene.faces) texels += f.texels.count();
+    for (const Chart& c : scene.charts) texels += c.texels.count();
     s.memory.texture_maps = texels * 3 * 3 * static_cast<int64_t>(sizeof(double));
     s.seconds = clock.seconds();
     return s;

@@ -7,9 +7,9 @@ namespace vlf {
 
 std::vector<Rgb> texel_radiance(const Scene& scene, const TextureMaps& maps) {
     std::vector<Rgb> out(maps.texels(), Rgb(0.0));
-    for (const Face& f : scene.faces) {
-        const size_t b = maps.begin(f.id), n = maps.count(f.id);
-        for (size_t t = 0; t < n; ++t) out[b + t] = maps.radiance(f, t);
+    for (const Chart& c : scene.charts) {
+        const size_t b = maps.begin(c.id), n = maps.count(c.id);
+        for (size_t t = 0; t < n; ++t) out[b + t] = maps.radiance(c, t);
     }
     return out;
 }
@@ -32,7 +32,7 @@ void axis(double x, int size, int& i0, int& i1, double& w1) {
 
 }  // namespace
 
-Rgb sample_lightmap(const Face& f, const Rgb* radiance, const Vec3& point) {
+Rgb sample_lightmap(const Chart& f, const Rgb* radiance, const Vec3& point) {
     const TexelFrame& tf = f.texels;
     const int W = tf.width, H = tf.height;
     if (W <= 0 || H <= 0 || f.texel_area.empty()) return Rgb(0.0);

@@ -16,17 +16,17 @@ namespace vlf {
 // unreliable to interpolate from: their radiance is power / a tiny area.
 inline constexpr double kReliableTexelFraction = 0.25;
 
-// Outgoing diffuse radiance (W m^-2 sr^-1) of every texel of every face from P^T, in
-// TextureMaps order (face f owns [maps.offset[f], maps.offset[f+1])); 0 for texels
-// outside their polygon.
+// Outgoing diffuse radiance (W m^-2 sr^-1) of every texel of every chart from P^T, in
+// TextureMaps order (chart c owns [maps.offset[c], maps.offset[c+1])); 0 for texels
+// off their chart.
 std::vector<Rgb> texel_radiance(const Scene& scene, const TextureMaps& maps);
 
-// Radiance of face `f` at `point` (normalised coordinates, on or near the face's plane):
+// Radiance of chart `c` at `point` (normalised coordinates, on or near one of its faces):
 // bilinear between texel centres — texel (i, j) has its centre at (i+0.5, j+0.5) in
 // TexelFrame::to_texel coordinates — clamped at the grid's border. Unreliable texels
 // (kReliableTexelFraction) get no weight, the others are renormalised; when none of the
 // four is reliable, the value of the nearest texel with the largest area is used.
-// `texel_radiance_of_face` points at the face's first texel (row-major j*width + i).
-Rgb sample_lightmap(const Face& f, const Rgb* texel_radiance_of_face, const Vec3& point);
+// `texel_radiance_of_chart` points at the chart's first texel (row-major j*width + i).
+Rgb sample_lightmap(const Chart& c, const Rgb* texel_radiance_of_chart, const Vec3& point);
 
 }  // namespace vlf

@@ -3,9 +3,9 @@
 namespace vlf {
 
 TextureMaps::TextureMaps(const Scene& scene) {
-    offset.resize(scene.faces.size() + 1, 0);
-    for (size_t f = 0; f < scene.faces.size(); ++f)
-        offset[f + 1] = offset[f] + static_cast<size_t>(scene.faces[f].texels.count());
+    offset.resize(scene.charts.size() + 1, 0);
+    for (size_t c = 0; c < scene.charts.size(); ++c)
+        offset[c + 1] = offset[c] + static_cast<size_t>(scene.charts[c].texels.count());
     current.assign(offset.back(), Rgb(0.0));
     next.assign(offset.back(), Rgb(0.0));
     total.assign(offset.back(), Rgb(0.0));
@@ -17,14 +17,14 @@ Rgb TextureMaps::sum(const std::vector<Rgb>& map, size_t begin, size_t count) {
     return s;
 }
 
-Rgb TextureMaps::radiance(const Face& f, size_t texel) const {
-    const double a = f.texel_area[texel];
+Rgb TextureMaps::radiance(const Chart& c, size_t texel) const {
+    const double a = c.texel_area[texel];
     if (a <= 0.0) return Rgb(0.0);
-    return total[offset[f.id] + texel] / (kPi * a);
+    return total[offset[c.id] + texel] / (kPi * a);
 }
 
-double TextureMaps::radiance(const Face& f, size_t texel, int channel) const {
-    return radiance(f, texel)[channel];
+double TextureMaps::radiance(const Chart& c, size_t texel, int channel) const {
+    return radiance(c, texel)[channel];
 }
 
 }  // namespace vlf

@@ -63,7 +63,7 @@ struct Renderer::Impl {
         if (bake.rays.directions != 0 && bake.rays.directions != l)
             throw Error("bake: ray images hold " + std::to_string(bake.rays.directions) +
                         " directions, the direction set " + std::to_string(l));
-        if (bake.texel_offset.size() != scene.faces.size() + 1 ||
+        if (bake.texel_offset.size() != scene.charts.size() + 1 ||
             bake.lightmap_radiance.size() != bake.texel_offset.back())
             throw Error("bake: light maps do not match the scene's texel grids");
         rotation.resize(l);
@@ -74,9 +74,9 @@ struct Renderer::Impl {
             if (f >= 0 && size_t(f) < stored_rays.size()) stored_rays[f] = 1;
     }
 
-    // P^T of face f at x, bilinear (VLF §6.2/§6.3).
+    // P^T of face f at x, bilinear on its chart's grid (VLF §6.2/§6.3).
     Rgb lightmap(const Face& f, const Vec3& x) const {
-        return sample_lightmap(f, bake.lightmap_radiance.data() + bake.texel_offset[f.id], x);
+        return sample_lightmap(scene.chart_of(f), bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
     }
 
     // Diffuse contribution of a face: P^T where it reflects diffusely or emits (P^T

@@ -1,4 +1,5 @@
-// scene.hpp — the scene model: materials, convex planar faces with texel frames, cameras,
+// scene.hpp — the scene model: materials, convex planar faces, the charts that hold their
+// texels (docs/charts.md), cameras,
 // and the normalisation into the unit ball (DESIGN §3; VLF §3 "the scene is enclosed by a
 // regular cuboid bound from (-1,-1,-1) to (1,1,1)").
 //
@@ -7,6 +8,7 @@
 // Normalisation converts between the two.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -49,13 +51,34 @@ struct Face {
     int object = 0;              // index into Scene::objects
     int material = 0;            // index into Scene::materials
     int twin = -1;               // the reverse face of a two-sided face (same polygon, other side)
+    int chart = -1;              // index into Scene::charts: the surface whose texels it uses
     std::vector<Vec3> vertices;  // normalised coords, counter-clockwise seen from the front
     Vec3 normal{0, 0, 1};        // unit, front side
     double plane_offset = 0.0;   // dot(normal, x) == plane_offset on the face
     double area = 0.0;           // normalised units^2
+    // Bit e set: edge e (vertices e -> e+1) is shared with another face of the same chart,
+    // so a beam footprint is not clipped there (texel_clip.hpp). Edges from 64 on are
+    // always treated as the chart's rim.
+    uint64_t inner_edges = 0;
+};
+
+// A chart (docs/charts.md): connected faces of one material whose normals lie within a
+// bounded angle of each other (coplanar faces of a polygon cut into triangles, a patch of a
+// curved mesh), sharing one texel grid at the scene's texel density on the plane of
+// `normal`. Texels belong to the surface, not to how it is cut into triangles: a face maps
+// into the grid by projection along `normal`.
+struct Chart {
+    int id = 0;
+    int material = 0;
+    Vec3 normal{0, 0, 1};  // unit; the grid's plane normal (axis_u x axis_v)
+    double area = 0.0;     // sum of its faces' areas, normalised units^2
+    std::vector<int> faces;
     TexelFrame texels;
-    // Per texel (row-major, j*width+i): area of texel ∩ polygon in normalised units^2.
+    // Per texel (row-major, j*width+i): the area of the chart's surface in the texel,
+    // normalised units^2 (a tilted face's projected area over the cosine of its tilt), less
+    // what lies sealed behind other faces (sealed_areas.hpp).
     std::vector<double> texel_area;
+    bool planar = true;  // every face has the chart's normal (their texel areas are exact)
 };
 
 struct SceneObject {
@@ -87,6 +110,7 @@ struct Scene {
     std::vector<Material> materials;
     std::vector<SceneObject> objects;
     std::vector<Face> faces;
+    std::vector<Chart> charts;
     std::vector<Camera> cameras;
     Normalisation normalisation;
     Vec3 user_bounds_min{0.0}, user_bounds_max{0.0};
@@ -96,6 +120,8 @@ struct Scene {
     double seal_gap = 0.0;
 
     const Material& material_of(const Face& f) const { return materials[f.material]; }
+    const Material& material_of(const Chart& c) const { return materials[c.material]; }
+    const Chart& chart_of(const Face& f) const { return charts[f.chart]; }
     int emitter_count() const;        // faces whose material emits
     int specular_face_count() const;  // faces whose material has rho_s > 0
 };

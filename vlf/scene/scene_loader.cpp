@@ -45,7 +45,6 @@
 #include "vlf/scene/scene_loader.hpp"
 
 #include <fmt/core.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -59,8 +58,8 @@
 #include "vlf/core/json_reader.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/primitives.hpp"
+#include "vlf/scene/charts.hpp"
 #include "vlf/scene/sealed_areas.hpp"
-#include "vlf/scene/texel_frame.hpp"
 
 namespace vlf {
 
@@ -574,8 +573,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
         scene.texel_size_user = half_diagonal / options.texel_divisions;
     const double texel = scene.texel_size_user * scene.normalisation.scale;
     const int cap = options.max_texels_per_side;
-    tbb::parallel_for(size_t(0), scene.faces.size(),
-                      [&](size_t k) { build_texel_frame(scene.faces[k], texel, cap); });
+    build_charts(scene, texel, cap, options.chart_angle_deg);
     scene.seal_gap = texel;
     subtract_sealed_areas(scene, scene.seal_gap);
     return scene;

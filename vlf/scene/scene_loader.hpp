@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "vlf/scene/charts.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
@@ -18,6 +19,9 @@ struct LoadOptions {
     // A face's texel grid is capped at this many texels per side (the texel size grows
     // for that face only, never silently shrinks the whole scene).
     int max_texels_per_side = 512;
+    // Faces join a chart while their normals lie within this angle of its first face's
+    // (charts.hpp); 0 gives every face a chart of its own.
+    double chart_angle_deg = kChartAngleDeg;
 };
 
 Scene load_scene(const std::string& path, const LoadOptions& options = {});

@@ -23,29 +23,31 @@ void subtract_sealed_areas(Scene& scene, double gap) {
                    std::tie(scene.faces[b].plane_offset, b);
         });
         for (size_t i = 0; i < ids.size(); ++i) {
-            Face& f = scene.faces[ids[i]];
+            const Face& f = scene.faces[ids[i]];
+            Chart& chart = scene.charts[f.chart];
+            const TexelFrame& tf = chart.texels;
             for (size_t j = i + 1; j < ids.size(); ++j) {
                 const Face& g = scene.faces[ids[j]];
                 const double d = g.plane_offset - f.plane_offset;
                 if (d > gap) break;
                 if (d <= 0.0) continue;  // coplanar: not in front
                 const std::vector<Vec2> covered =
-                    intersect_convex(polygon_in_texels(f.texels, g.vertices),
-                                     polygon_in_texels(f.texels, f.vertices));
+                    intersect_convex(polygon_in_texels(tf, g.vertices),
+                                     polygon_in_texels(tf, f.vertices));
                 if (covered.empty()) continue;
                 double lo_u = covered[0].x, hi_u = lo_u, lo_v = covered[0].y, hi_v = lo_v;
                 for (const Vec2& p : covered) {
                     lo_u = std::min(lo_u, p.x), hi_u = std::max(hi_u, p.x);
                     lo_v = std::min(lo_v, p.y), hi_v = std::max(hi_v, p.y);
                 }
-                const double cell = f.texels.size * f.texels.size;
+                const double cell = tf.size * tf.size * projected_area_scale(chart, f);
                 const int i0 = std::max(0, int(std::floor(lo_u))),
-                          i1 = std::min(f.texels.width - 1, int(std::floor(hi_u)));
+                          i1 = std::min(tf.width - 1, int(std::floor(hi_u)));
                 const int j0 = std::max(0, int(std::floor(lo_v))),
-                          j1 = std::min(f.texels.height - 1, int(std::floor(hi_v)));
+                          j1 = std::min(tf.height - 1, int(std::floor(hi_v)));
                 for (int v = j0; v <= j1; ++v)
                     for (int u = i0; u <= i1; ++u) {
-                        double& a = f.texel_area[size_t(v) * f.texels.width + u];
+                        double& a = chart.texel_area[size_t(v) * tf.width + u];
                         const double cut =
                             clipped_area(covered, Vec2(u, v), Vec2(u + 1, v + 1)) * cell;
                         a = std::max(0.0, a - cut);

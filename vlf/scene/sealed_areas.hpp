@@ -17,8 +17,8 @@
 
 namespace vlf {
 
-// Subtracts from every face's texel areas what faces within `gap` in front of
-// it cover. Faces of any orientation are grouped by normal, so the cost is about
+// Subtracts from every chart's texel areas what faces within `gap` in front of its faces
+// cover. Faces of any orientation are grouped by normal, so the cost is about
 // n log n plus the pairs that are really that close.
 void subtract_sealed_areas(Scene& scene, double gap);
 

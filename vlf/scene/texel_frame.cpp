@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <limits>
 
 #include "vlf/core/error.hpp"
@@ -81,32 +82,120 @@ std::vector<Vec2> intersect_convex(std::vector<Vec2> subject, const std::vector<
     return subject.size() >= 3 ? subject : std::vector<Vec2>{};
 }
 
-void build_texel_frame(Face& face, double texel_size, int max_texels_per_side) {
-    VLF_CHECK(face.vertices.size() >= 3);
+namespace {
+
+// The direction of axis_u in the chart's plane: a single face's longest edge; for a chart
+// of several faces the direction along which its rim (edges not shared inside the chart)
+// is longest in total, so a polygon cut into triangles gets the grid of the polygon.
+Vec3 chart_axis_u(const Chart& chart, const std::vector<Face>& faces) {
+    const Vec3 n = chart.normal;
+    auto in_plane = [&](const Vec3& e) { return e - n * glm::dot(e, n); };
+    if (chart.faces.size() == 1) {
+        const std::vector<Vec3>& p = faces[chart.faces[0]].vertices;
+        const size_t m = p.size();
+        size_t longest = 0;
+        double best = -1;
+        for (size_t i = 0; i < m; ++i) {
+            const double l = glm::length(p[(i + 1) % m] - p[i]);
+            if (l > best) best = l, longest = i;
+        }
+        return glm::normalize(in_plane(p[(longest + 1) % m] - p[longest]));
+    }
+    constexpr size_t kMaxGroups = 64;
+    std::vector<std::pair<Vec3, double>> groups;  // unit direction, total rim length
+    Vec3 longest_edge(0.0);
+    double longest = -1;
+    for (int fi : chart.faces) {
+        const Face& f = faces[fi];
+        const size_t m = f.vertices.size();
+        for (size_t e = 0; e < m; ++e) {
+            if (e < 64 && (f.inner_edges >> e & 1u)) continue;
+            const Vec3 d = in_plane(f.vertices[(e + 1) % m] - f.vertices[e]);
+            const double l = glm::length(d);
+            if (!(l > 0)) continue;
+            if (l > longest) longest = l, longest_edge = d;
+            const Vec3 u = d / l;
+            auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& x) {
+                return glm::dot(x.first, u) > 1.0 - 1e-9;
+            });
+            if (g != groups.end())
+                g->second += l;
+            else if (groups.size() < kMaxGroups)
+                groups.push_back({u, l});
+        }
+    }
+    if (groups.empty() || groups.size() >= kMaxGroups)
+        return glm::normalize(longest_edge);  // a curved rim: its longest edge
+    auto best = groups.begin();
+    for (auto g = groups.begin(); g != groups.end(); ++g)
+        if (g->second > best->second * (1 + 1e-9)) best = g;
+    return best->first;
+}
+
+// Calls add(texel, area) with the area of the polygon q (texel coordinates) in each texel
+// it covers, in texel units. Each
+// row is clipped once, then each column inside the row's strip; the outermost rows and
+// columns are not clipped on their outer side, so rounding at the bounding rectangle
+// cannot lose area.
+template <class Add>
+void for_polygon_area(const std::vector<Vec2>& q, const TexelFrame& f, Add&& add) {
+    double qmin = std::numeric_limits<double>::infinity(), qmax = -qmin;
+    for (const Vec2& x : q) qmin = std::min(qmin, x.y), qmax = std::max(qmax, x.y);
+    const int r0 = std::clamp(static_cast<int>(std::floor(qmin)), 0, f.height - 1);
+    const int r1 = std::clamp(static_cast<int>(std::floor(qmax)), 0, f.height - 1);
+    std::vector<Vec2> strip, tmp, cell, tmp2;
+    for (int j = r0; j <= r1; ++j) {
+        strip = q;
+        if (j > 0) clip(strip, tmp, 1, j, +1), std::swap(strip, tmp);
+        if (j < f.height - 1) clip(strip, tmp, 1, j + 1, -1), std::swap(strip, tmp);
+        if (strip.size() < 3) continue;
+        double smin = std::numeric_limits<double>::infinity(), smax = -smin;
+        for (const Vec2& x : strip) smin = std::min(smin, x.x), smax = std::max(smax, x.x);
+        const int i0 = std::clamp(static_cast<int>(std::floor(smin)), 0, f.width - 1);
+        const int i1 = std::clamp(static_cast<int>(std::floor(smax)), 0, f.width - 1);
+        for (int i = i0; i <= i1; ++i) {
+            cell = strip;
+            if (i > 0) clip(cell, tmp2, 0, i, +1), std::swap(cell, tmp2);
+            if (i < f.width - 1) clip(cell, tmp2, 0, i + 1, -1), std::swap(cell, tmp2);
+            add(static_cast<size_t>(j) * f.width + i, std::abs(shoelace(cell)));
+        }
+    }
+}
+
+}  // namespace
+
+double projected_area_scale(const Chart& chart, const Face& face) {
+    if (face.normal == chart.normal) return 1.0;
+    return 1.0 / std::max(1e-6, glm::dot(face.normal, chart.normal));
+}
+
+void face_texel_areas(const Chart& chart, const Face& face, std::vector<TexelArea>& out) {
+    const TexelFrame& f = chart.texels;
+    std::vector<Vec2> q;
+    for (const Vec3& v : face.vertices) q.push_back(f.to_texel(v));
+    const double scale = f.size * f.size * projected_area_scale(chart, face);
+    for_polygon_area(q, f, [&](size_t t, double a) {
+        if (a > 0) out.push_back({static_cast<uint32_t>(t), a * scale});
+    });
+}
+
+void build_chart_texels(Chart& chart, const std::vector<Face>& faces, double texel_size,
+                        int max_texels_per_side) {
+    VLF_CHECK(!chart.faces.empty());
     VLF_CHECK(texel_size > 0 && std::isfinite(texel_size));
     VLF_CHECK(max_texels_per_side >= 1);
-    const std::vector<Vec3>& p = face.vertices;
-    const size_t m = p.size();
-    const Vec3 n = face.normal;
-
-    // axis_u along the longest edge, made exactly orthogonal to the normal.
-    size_t longest = 0;
-    double best = -1;
-    for (size_t i = 0; i < m; ++i) {
-        const double l = glm::length(p[(i + 1) % m] - p[i]);
-        if (l > best) best = l, longest = i;
-    }
-    Vec3 e = p[(longest + 1) % m] - p[longest];
-    Vec3 u = glm::normalize(e - n * glm::dot(e, n));
-    Vec3 v = glm::normalize(glm::cross(n, u));
+    const Vec3 n = chart.normal;
+    const Vec3 u = chart_axis_u(chart, faces);
+    const Vec3 v = glm::normalize(glm::cross(n, u));
 
     double umin = std::numeric_limits<double>::infinity(), vmin = umin;
     double umax = -umin, vmax = -umin;
-    for (const Vec3& x : p) {
-        const double a = glm::dot(x, u), b = glm::dot(x, v);
-        umin = std::min(umin, a), umax = std::max(umax, a);
-        vmin = std::min(vmin, b), vmax = std::max(vmax, b);
-    }
+    for (int fi : chart.faces)
+        for (const Vec3& x : faces[fi].vertices) {
+            const double a = glm::dot(x, u), b = glm::dot(x, v);
+            umin = std::min(umin, a), umax = std::max(umax, a);
+            vmin = std::min(vmin, b), vmax = std::max(vmax, b);
+        }
     const double eu = umax - umin, ev = vmax - vmin;
 
     double size = texel_size;
@@ -120,40 +209,26 @@ void build_texel_frame(Face& face, double texel_size, int max_texels_per_side) {
     // ceil() of a quotient that rounds up past the cap: grow the size by an ulp-scale step.
     while (cells(eu) > max_texels_per_side || cells(ev) > max_texels_per_side) size *= 1 + 1e-12;
 
-    TexelFrame& f = face.texels;
+    const Face& seed = faces[chart.faces[0]];
+    TexelFrame& f = chart.texels;
     f.axis_u = u;
     f.axis_v = v;
-    f.origin = n * face.plane_offset + umin * u + vmin * v;
+    f.origin = n * glm::dot(n, seed.vertices[0]) + umin * u + vmin * v;
+    if (chart.faces.size() == 1) f.origin = n * seed.plane_offset + umin * u + vmin * v;
     f.size = size;
     f.width = cells(eu);
     f.height = cells(ev);
 
-    // Polygon in continuous texel coordinates.
-    std::vector<Vec2> q(m);
-    for (size_t i = 0; i < m; ++i)
-        q[i] = {(glm::dot(p[i], u) - umin) / size, (glm::dot(p[i], v) - vmin) / size};
-
-    // Clip once per row, then per column inside the row's strip. The outermost rows and
-    // columns are not clipped on their outer side, so rounding at the bounding rectangle
-    // cannot lose area: the texel areas sum to the polygon's area.
-    face.texel_area.assign(static_cast<size_t>(f.width) * f.height, 0.0);
-    const double s2 = size * size;
-    std::vector<Vec2> strip, tmp, cell, tmp2;
-    for (int j = 0; j < f.height; ++j) {
-        strip = q;
-        if (j > 0) clip(strip, tmp, 1, j, +1), std::swap(strip, tmp);
-        if (j < f.height - 1) clip(strip, tmp, 1, j + 1, -1), std::swap(strip, tmp);
-        if (strip.size() < 3) continue;
-        double smin = std::numeric_limits<double>::infinity(), smax = -smin;
-        for (const Vec2& x : strip) smin = std::min(smin, x.x), smax = std::max(smax, x.x);
-        const int i0 = std::clamp(static_cast<int>(std::floor(smin)), 0, f.width - 1);
-        const int i1 = std::clamp(static_cast<int>(std::floor(smax)), 0, f.width - 1);
-        for (int i = i0; i <= i1; ++i) {
-            cell = strip;
-            if (i > 0) clip(cell, tmp2, 0, i, +1), std::swap(cell, tmp2);
-            if (i < f.width - 1) clip(cell, tmp2, 0, i + 1, -1), std::swap(cell, tmp2);
-            face.texel_area[static_cast<size_t>(j) * f.width + i] = std::abs(shoelace(cell)) * s2;
-        }
+    chart.texel_area.assign(static_cast<size_t>(f.width) * f.height, 0.0);
+    std::vector<Vec2> q;
+    for (int fi : chart.faces) {
+        const Face& face = faces[fi];
+        q.resize(face.vertices.size());
+        for (size_t i = 0; i < q.size(); ++i)
+            q[i] = {(glm::dot(face.vertices[i], u) - umin) / size,
+                    (glm::dot(face.vertices[i], v) - vmin) / size};
+        const double scale = size * size * projected_area_scale(chart, face);
+        for_polygon_area(q, f, [&](size_t t, double a) { chart.texel_area[t] += a * scale; });
     }
 }
 

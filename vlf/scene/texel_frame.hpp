@@ -1,5 +1,5 @@
-// texel_frame.hpp — the texel grid of a face (VLF §4.4: the diffuse texture maps P^C, P^N,
-// P^T live on it) and the exact area of every texel square ∩ the face polygon, which the
+// texel_frame.hpp — the texel grid of a chart (charts.hpp) (VLF §4.4: the diffuse texture maps P^C, P^N,
+// P^T live on it) and the exact area of every texel square ∩ the chart's faces, which the
 // diffuse sender and receiver use as their overlap weights (DESIGN §5).
 #pragma once
 
@@ -10,12 +10,27 @@
 
 namespace vlf {
 
-// Fills face.texels and face.texel_area from face.vertices and face.normal (normalised
-// units). axis_u runs along the face's longest edge (projected into the plane), axis_v =
-// normal x axis_u, the origin is the minimum corner of the face's bounding rectangle in that
-// frame, width/height = ceil(extent / texel_size) (at least 1). When a side would exceed
-// max_texels_per_side, the texel size of this face grows until it fits.
-void build_texel_frame(Face& face, double texel_size, int max_texels_per_side);
+// Fills chart.texels and chart.texel_area from its faces (normalised units). axis_u runs
+// along a single face's longest edge, or along the direction in which a chart's rim is
+// longest (texel_frame.cpp), projected into the chart's plane; axis_v = normal x axis_u; the
+// origin is the minimum corner of the chart's bounding rectangle in that frame, width/height
+// = ceil(extent / texel_size) (at least 1). When a side would exceed max_texels_per_side,
+// the texel size of this chart grows until it fits. A face tilted against the chart's
+// plane counts its projected area times projected_area_scale.
+void build_chart_texels(Chart& chart, const std::vector<Face>& faces, double texel_size,
+                        int max_texels_per_side);
+
+// The area of `face` (one of the chart's) in each texel it covers, normalised units^2,
+// appended to `out`; sealed parts are not taken out.
+struct TexelArea {
+    uint32_t texel;  // j * width + i
+    double area;
+};
+void face_texel_areas(const Chart& chart, const Face& face, std::vector<TexelArea>& out);
+
+// 1 / cos of the angle between a face of a chart and the chart's plane: the face's area
+// over its projection (exactly 1 for a face in the plane).
+double projected_area_scale(const Chart& chart, const Face& face);
 
 // Area of the convex polygon `poly` (2D, any units) ∩ the axis-aligned box [lo, hi];
 // exact up to rounding (Sutherland–Hodgman clipping + shoelace).

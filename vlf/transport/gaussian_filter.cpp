@@ -16,8 +16,8 @@ void gaussian_filter_next(const Scene& scene, TextureMaps& maps, double sigma) {
     double kernel_sum = 0.0;  // over the whole 2D kernel
     for (double a : kernel)
         for (double b : kernel) kernel_sum += a * b;
-    parallel_for(0, static_cast<long>(scene.faces.size()), [&](long fi) {
-        const Face& f = scene.faces[fi];
+    parallel_for(0, static_cast<long>(scene.charts.size()), [&](long fi) {
+        const Chart& f = scene.charts[fi];
         const int W = f.texels.width, H = f.texels.height;
         const size_t b = maps.begin(f.id);
         const double cell = f.texels.size * f.texels.size;

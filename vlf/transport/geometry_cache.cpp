@@ -103,15 +103,16 @@ void clip_beams(const GeometryInputs& in, const Mat3& rot, const std::vector<uin
                     g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
                 continue;
             }
-            const PsfToTexel map = psf_to_texel(face, rot);
-            const std::vector<Vec2>& poly = in.polygons[fr.face];
+            const TexelFrame& grid = in.scene.chart_of(face).texels;
+            const PsfToTexel map = psf_to_texel(face, grid, rot);
+            const FaceInTexels& poly = in.polygons[fr.face];
             tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                 // The beam's footprint on the face itself: the part of the pixel's
                 // parallelogram inside the polygon, sliced by the texel grid (area-exact at
                 // the rim, docs/propagation.md §3).
                 if (needed.empty() || needed[base + k])
                     pixel_texel_overlaps(map, tile.s * in.m + u, tile.t * in.m + v, in.N, poly,
-                                         face.texels.width, face.texels.height, g.ov);
+                                         grid.width, grid.height, g.ov);
                 g.ov_begin[base + k + 1] = static_cast<uint32_t>(g.ov.size());
             });
         }

@@ -26,6 +26,9 @@ void validate(const PropagateParams& p) {
     if (p.texel_divisions < 1 || p.texel_divisions > 4096)
         throw ParameterError(
             fmt::format("--texel-divisions: {} is out of range (1 to 4096)", p.texel_divisions));
+    if (!(p.chart_angle_deg >= 0.0) || p.chart_angle_deg >= 90.0)
+        throw ParameterError(fmt::format(
+            "--chart-angle: {} is out of range (0 to less than 90 degrees)", p.chart_angle_deg));
     if (!(p.stop_unshot >= 0.0) || p.stop_unshot >= 1.0)
         throw ParameterError(
             fmt::format("--stop-unshot: {} is out of range (0 = off, up to 1)", p.stop_unshot));
@@ -60,6 +63,7 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["quality"] = p.quality;
     j["texel_size"] = p.texel_size;
     j["texel_divisions"] = p.texel_divisions;
+    j["chart_angle_deg"] = p.chart_angle_deg;
     j["cycles"] = p.cycles;
     j["stop_unshot"] = p.stop_unshot;
     j["threads"] = p.threads;
@@ -77,7 +81,7 @@ nlohmann::json to_json(const PropagateParams& p) {
 
 PropagateParams propagate_params_from_json(const JsonReader& r) {
     r.only_keys({"directions",    "resolution",     "tile",         "tiles_per_side",
-                 "scheme",        "quality",        "texel_size",   "texel_divisions",
+                 "scheme",        "quality",        "texel_size",   "texel_divisions", "chart_angle_deg",
                  "cycles",        "stop_unshot",    "threads",      "deferred",
                  "perturbations", "perturb_cycles", "filter_sigma", "supersample",
                  "resample",      "store_all_rays", "seed",         "cache_budget_mib"});
@@ -93,6 +97,7 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
     p.quality = r.required("quality").string();
     p.texel_size = r.required("texel_size").number();
     p.texel_divisions = r.required("texel_divisions").integer();
+    p.chart_angle_deg = r.required("chart_angle_deg").number();
     p.cycles = r.required("cycles").integer();
     p.stop_unshot = r.required("stop_unshot").number();
     p.threads = r.required("threads").integer();

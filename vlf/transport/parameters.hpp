@@ -16,6 +16,9 @@ struct PropagateParams {
     FieldParams field;
     double texel_size = 0.0;   // user units; 0: the scene's settings.texel_size or its default
     int texel_divisions = 32;  // that default: the scene's bounding-sphere radius / this
+    // Faces share a chart's texels while their normals lie within this angle of its first
+    // face's (charts.hpp; 0: a chart per face).
+    double chart_angle_deg = 30.0;
     int cycles = 4;            // propagation cycles (cycle 1 carries the emission); with
                                // stop_unshot > 0, the most cycles to run
     // Stop after the cycle that leaves less than this fraction of the emitted power still

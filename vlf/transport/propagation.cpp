@@ -7,6 +7,7 @@
 #include "vlf/core/progress.hpp"
 #include "vlf/core/stopwatch.hpp"
 #include "vlf/scene/raycaster.hpp"
+#include "vlf/scene/texel_frame.hpp"
 #include "vlf/transport/report.hpp"
 #include "vlf/transport/resample.hpp"
 
@@ -49,17 +50,31 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
 nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps) {
     nlohmann::json faces = nlohmann::json::array();
     const double s2 = scene.normalisation.scale * scene.normalisation.scale;
+    std::vector<TexelArea> in_face;
     for (const Face& f : scene.faces) {
-        const Rgb total = TextureMaps::sum(maps.total, maps.begin(f.id), maps.count(f.id));
-        double open = 0.0;  // the area that sends and receives (sealed_areas.hpp)
-        for (double a : f.texel_area) open += a;
-        const Rgb mean = open > 0 ? total / (kPi * open) : Rgb(0.0);
+        // The face's texels and its area in each: a chart of its own holds just the open
+        // area (sealed_areas.hpp); a face sharing a chart weighs each texel it covers.
+        const Chart& c = scene.chart_of(f);
+        in_face.clear();
+        if (c.faces.size() == 1) {
+            for (size_t t = 0; t < c.texel_area.size(); ++t)
+                if (c.texel_area[t] > 0) in_face.push_back({uint32_t(t), c.texel_area[t]});
+        } else {
+            face_texel_areas(c, f, in_face);
+        }
+        double open = 0.0;
+        Rgb weighted(0.0);
+        for (const TexelArea& ta : in_face) {
+            open += ta.area;
+            weighted += ta.area * maps.radiance(c, ta.texel);
+        }
+        const Rgb mean = open > 0 ? weighted / open : Rgb(0.0);
         Rgb lo(1e300), hi(-1e300);
-        const double half = 0.5 * f.texels.size * f.texels.size;
+        const double half = 0.5 * c.texels.size * c.texels.size;
         bool any = false;
-        for (size_t t = 0; t < maps.count(f.id); ++t) {
-            if (f.texel_area[t] < half) continue;
-            const Rgb r = maps.radiance(f, t);
+        for (const TexelArea& ta : in_face) {
+            if (ta.area < half) continue;
+            const Rgb r = maps.radiance(c, ta.texel);
             lo = glm::min(lo, r);
             hi = glm::max(hi, r);
             any = true;
@@ -68,10 +83,9 @@ nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps) {
         // Area-weighted RMS of the texel radiances about the face mean, rim texels included,
         // relative to the mean: in a furnace (uniform exact radiance) the RMS texel error.
         Rgb sq(0.0);
-        for (size_t t = 0; t < maps.count(f.id); ++t) {
-            if (f.texel_area[t] <= 0) continue;
-            const Rgb d = maps.radiance(f, t) - mean;
-            sq += f.texel_area[t] * d * d;
+        for (const TexelArea& ta : in_face) {
+            const Rgb d = maps.radiance(c, ta.texel) - mean;
+            sq += ta.area * d * d;
         }
         Rgb rms(0.0);
         for (int c = 0; c < 3; ++c)

@@ -38,7 +38,7 @@ Received gather_received(const PassContext& pc, const DirectionGeometry& g, size
 // texels its footprint overlaps, by overlap area.
 void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
                      const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
-    const size_t tb = pc.tex.begin(int(f));
+    const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
     for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
                   [&](const Tile&, const Fragment& fr, uint32_t base) {
                       for (uint32_t k = 0; k < fr.covered; ++k) {

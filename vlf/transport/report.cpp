@@ -22,14 +22,13 @@ nlohmann::json vec(const Vec3& v) {
 nlohmann::json scene_summary(const Scene& scene) {
     int64_t texels = 0;
     double area = 0.0;
-    for (const Face& f : scene.faces) {
-        texels += f.texels.count();
-        area += f.area;
-    }
+    for (const Face& f : scene.faces) area += f.area;
+    for (const Chart& c : scene.charts) texels += c.texels.count();
     const double s2 = scene.normalisation.scale * scene.normalisation.scale;
     return {{"source", scene.source},
             {"units", scene.units},
             {"faces", scene.faces.size()},
+            {"charts", scene.charts.size()},
             {"objects", scene.objects.size()},
             {"materials", scene.materials.size()},
             {"emitters", scene.emitter_count()},

@@ -45,7 +45,8 @@ Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
         // Own diffuse part (mixed materials add theirs at every bounce); P^T of an emitter
         // holds its emission.
         if (mat.is_diffuse() || mat.is_emitter())
-            value += throughput * sample_lightmap(f, radiance.data() + offset[cur], p);
+            value += throughput *
+                     sample_lightmap(scene.chart_of(f), radiance.data() + offset[f.chart], p);
         if (!mat.is_specular() || bounce >= max_bounces) break;
         const double tn = glm::dot(t, f.normal);
         if (tn <= 0.0) break;  // leaving the back: a mirror reflects on its front only

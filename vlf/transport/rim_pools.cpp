@@ -21,8 +21,8 @@ RimPools build_rim_pools(const Scene& scene, const TextureMaps& maps) {
     RimPools p;
     p.host.resize(maps.texels());
     p.pool_area.assign(maps.texels(), 0.0);
-    parallel_for(0, static_cast<long>(scene.faces.size()), [&](long fi) {
-        const Face& f = scene.faces[fi];
+    parallel_for(0, static_cast<long>(scene.charts.size()), [&](long fi) {
+        const Chart& f = scene.charts[fi];
         const int W = f.texels.width, H = f.texels.height;
         const size_t b = maps.begin(f.id);
         const double cell = f.texels.size * f.texels.size;
@@ -54,8 +54,8 @@ RimPools build_rim_pools(const Scene& scene, const TextureMaps& maps) {
 
 void pool_rim_texels(const RimPools& pools, const Scene& scene, const TextureMaps& maps,
                      std::vector<Rgb>& power) {
-    parallel_for(0, static_cast<long>(scene.faces.size()), [&](long fi) {
-        const Face& f = scene.faces[fi];
+    parallel_for(0, static_cast<long>(scene.charts.size()), [&](long fi) {
+        const Chart& f = scene.charts[fi];
         const size_t b = maps.begin(f.id), n = maps.count(f.id);
         bool any = false;
         for (size_t t = b; t < b + n && !any; ++t) any = pools.host[t] != t;

@@ -21,13 +21,13 @@ void lose_sliver_light(const PassContext& pc, int d, int f, NumericalLoss& lost)
         lost.subpixel_mirror += Rgb(pc.spec.unshot[mb + k]) * beam_c;
 }
 
-// Each ray of face f samples the face's unshot exitance under its footprint (the weights
+// Each ray of face f samples its chart's unshot exitance under its footprint (the weights
 // are unbiased at the rim, texel_clip.hpp), into out; sealed rays are left out. Returns
 // the sum of the samples, and in `rays` how many rays took one.
 Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t f,
                     std::vector<Rgb>& out, uint32_t& rays) {
     const std::vector<Rgb>& exitance = pc.senders.exitance;
-    const size_t tb = pc.tex.begin(int(f));
+    const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
     Rgb sampled(0.0);
     for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
                   [&](const Tile&, const Fragment& fr, uint32_t base) {
@@ -49,18 +49,21 @@ Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t f,
     return sampled;
 }
 
-// VLF §4.4 eq. (3): face f sends exactly its share of its unshot power U into this
-// direction, wd = cos(theta_d) Delta_d / sum_d' cos(theta_d') Delta_d', over its rays in
-// proportion to the exitance they sample. Sampling exitance rather than splitting each
-// texel's power keeps a uniform field uniform at the rim (docs/propagation.md §3).
-void send_diffuse(const PassContext& pc, const PassDirection& pd, size_t f, std::vector<Rgb>& out,
-                  NumericalLoss& lost) {
+// VLF §4.4 eq. (3): chart c sends exactly its share of its unshot power U into this
+// direction, wd = cos(theta_d) Delta_d / sum_d' cos(theta_d') Delta_d', over the rays of
+// all its faces in proportion to the exitance they sample: a face too small to own a ray
+// still sends, through its neighbours' beams (docs/charts.md). Sampling exitance rather
+// than splitting each texel's power keeps a uniform field uniform at the rim
+// (docs/propagation.md §3).
+void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c,
+                  std::vector<Rgb>& out, NumericalLoss& lost) {
     const DirectionGeometry& g = pd.g;
-    const double nz = std::abs((pc.rotations[pd.d] * pc.scene.faces[f].normal).z);
-    const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[f];
+    const double nz = projected_cosine(pc.scene, c, pc.rotations[pd.d]);
+    const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[c.id];
     uint32_t rays = 0;
-    const Rgb sampled = sample_exitance(pc, g, f, out, rays);
-    const Rgb target = pc.senders.face_unshot[f] * wd;
+    Rgb sampled(0.0);
+    for (int f : c.faces) sampled += sample_exitance(pc, g, size_t(f), out, rays);
+    const Rgb target = pc.senders.unshot[c.id] * wd;
     Rgb scale(0.0), even(0.0);
     for (int c = 0; c < 3; ++c) {
         if (sampled[c] > 0.0)
@@ -70,12 +73,13 @@ void send_diffuse(const PassContext& pc, const PassDirection& pd, size_t f, std:
         else
             lost.sealed[c] += target[c];  // every ray is shut
     }
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
-                  [&](const Tile&, const Fragment& fr, uint32_t base) {
-                      for (uint32_t k = 0; k < fr.covered; ++k)
-                          if (g.partner[base + k] != kSealed)
-                              out[base + k] = out[base + k] * scale + even;
-                  });
+    for (int f : c.faces)
+        for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+                      [&](const Tile&, const Fragment& fr, uint32_t base) {
+                          for (uint32_t k = 0; k < fr.covered; ++k)
+                              if (g.partner[base + k] != kSealed)
+                                  out[base + k] = out[base + k] * scale + even;
+                      });
 }
 
 // VLF §4.1 line 9 on the N x N grid: a mirror's rays add its unshot radiance
@@ -193,12 +197,15 @@ void store_rays_supersampled(const PassContext& pc, const PassDirection& pd, siz
 
 }  // namespace
 
-// VLF §4.4 eq. (3) and §4.1 line 9, face by face: slivers without fine rays lose their
-// mirror light, senders load their rays, stored faces add L_U and record L_T.
+// VLF §4.4 eq. (3) and §4.1 line 9: sending charts load their faces' rays; then face by
+// face, slivers without fine rays lose their mirror light, stored faces add L_U and
+// record L_T.
 void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
     const size_t nf = pc.scene.faces.size();
     w.out.assign(g.slots(), Rgb(0.0));
+    for (const Chart& c : pc.scene.charts)
+        if (pc.senders.sends[c.id]) send_diffuse(pc, pd, c, w.out, res.lost);
     for (size_t f = 0; f < nf; ++f) {
         const bool spec_store = pc.true_directions && pc.spec.stores(int(f));
         const bool other_store = pc.true_directions && pc.other.stores(int(f));
@@ -207,7 +214,6 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
                 lose_sliver_light(pc, pd.d, int(f), res.lost);
             continue;
         }
-        if (pc.senders.sends[f]) send_diffuse(pc, pd, f, w.out, res.lost);
         if (!spec_store && !other_store) continue;
         RadianceMaps& maps = spec_store ? pc.spec : pc.other;
         if (pc.s == 1)
@@ -217,26 +223,26 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
     }
 }
 
-// Which faces send diffuse power this pass, how much, and their unshot exitance: every
-// face not deferred (VLF §4.5) that holds unshot power and has a direction to send it in.
+// Which charts send diffuse power this pass, how much, and their unshot exitance: every
+// chart not deferred (VLF §4.5) that holds unshot power and has a direction to send it in.
 Senders find_senders(const Scene& scene, const TextureMaps& tex,
                      const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm) {
-    const size_t nf = scene.faces.size();
+    const size_t nc = scene.charts.size();
     Senders out;
-    out.sends.assign(nf, 0);
-    out.face_unshot.assign(nf, Rgb(0.0));
+    out.sends.assign(nc, 0);
+    out.face_sends.assign(scene.faces.size(), 0);
+    out.unshot.assign(nc, Rgb(0.0));
     out.exitance.assign(tex.texels(), Rgb(0.0));
-    for (size_t f = 0; f < nf; ++f) {
-        if (deferred[f]) continue;
-        const size_t tb = tex.begin(int(f));
-        const Rgb u = TextureMaps::sum(tex.current, tb, tex.count(int(f)));
-        out.sends[f] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[f] > 0;
-        if (!out.sends[f]) continue;
-        out.face_unshot[f] = u;
-        const Face& face = scene.faces[f];
-        for (size_t t = 0; t < tex.count(int(f)); ++t)
-            if (face.texel_area[t] > 0.0)
-                out.exitance[tb + t] = tex.current[tb + t] / face.texel_area[t];
+    for (const Chart& c : scene.charts) {
+        if (deferred[c.id]) continue;
+        const size_t tb = tex.begin(c.id);
+        const Rgb u = TextureMaps::sum(tex.current, tb, tex.count(c.id));
+        out.sends[c.id] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[c.id] > 0;
+        if (!out.sends[c.id]) continue;
+        out.unshot[c.id] = u;
+        for (int f : c.faces) out.face_sends[f] = 1;
+        for (size_t t = 0; t < tex.count(c.id); ++t)
+            if (c.texel_area[t] > 0.0) out.exitance[tb + t] = tex.current[tb + t] / c.texel_area[t];
     }
     return out;
 }

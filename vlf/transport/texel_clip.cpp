@@ -7,13 +7,12 @@
 
 namespace vlf {
 
-PsfToTexel psf_to_texel(const Face& face, const Mat3& rotation) {
+PsfToTexel psf_to_texel(const Face& face, const TexelFrame& tf, const Mat3& rotation) {
     // Rotated-frame point on the plane: q = (x, y, z(x, y)), z = (D - n.x x - n.y y) / n.z,
     // scene point p = R^T q, texel = ((p - o).au, (p - o).av) / size. All affine in (x, y).
     const Vec3 n = rotation * face.normal;
     const Mat3 rt = glm::transpose(rotation);
     const Vec3 ex = rt * Vec3(1, 0, 0), ey = rt * Vec3(0, 1, 0), ez = rt * Vec3(0, 0, 1);
-    const TexelFrame& tf = face.texels;
     const double inv = 1.0 / tf.size;
     const Vec3 gx = ex - ez * (n.x / n.z);                       // d p / d x
     const Vec3 gy = ey - ez * (n.y / n.z);                       // d p / d y
@@ -192,14 +191,15 @@ constexpr int kMaxFolds = 3;
 // edge (and inside the edges before it) is mirrored back across that edge and folded in
 // the same way. See clip_footprint_to_grid in the header for why.
 template <class P>
-void fold_to_grid(const P& piece, int depth, const std::vector<Vec2>& polygon, int width,
-                  int height, std::vector<TexelOverlap>& out) {
+void fold_to_grid(const P& piece, int depth, const std::vector<Vec2>& polygon, uint64_t inner,
+                  int width, int height, std::vector<TexelOverlap>& out) {
     const int n = static_cast<int>(polygon.size());
     P ia, ib, right, image;
     const P* inside = &piece;
     P* inside_out = &ia;
     P* inside_spare = &ib;
     for (int e = 0; e < n && inside->size() >= 3; ++e) {
+        if (e < 64 && (inner >> e & 1u)) continue;  // the chart goes on: no rim here
         const Vec2& a = polygon[e];
         const Vec2& b = polygon[(e + 1) % n];
         split_by_edge(*inside, a, b, *inside_out, right);
@@ -208,7 +208,7 @@ void fold_to_grid(const P& piece, int depth, const std::vector<Vec2>& polygon, i
         if (depth >= kMaxFolds || right.size() < 3 || area(right) <= 0.0) continue;
         image.clear();
         for (int k = 0; k < right.size(); ++k) image.push(reflect(right[k], a, b - a));
-        fold_to_grid(image, depth + 1, polygon, width, height, out);
+        fold_to_grid(image, depth + 1, polygon, inner, width, height, out);
     }
     if (inside->size() >= 3) slice_to_grid(*inside, width, height, out);
 }
@@ -223,13 +223,14 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
     return static_cast<int>(out.size() - before);
 }
 
-int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
-                           int height, std::vector<TexelOverlap>& out) {
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, uint64_t inner,
+                           int width, int height, std::vector<TexelOverlap>& out) {
     const size_t before = out.size();
     // Whole quad inside the polygon (the interior of a face): no polygon clipping.
     bool whole = true;
     const int n = static_cast<int>(polygon.size());
     for (int e = 0; e < n && whole; ++e) {
+        if (e < 64 && (inner >> e & 1u)) continue;
         const Vec2& a = polygon[e];
         const Vec2 d = polygon[(e + 1) % n] - a;
         for (int k = 0; k < 4; ++k)
@@ -241,11 +242,11 @@ int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon,
     if (n <= kSmallEdges) {
         SmallPoly<4 + (kMaxFolds + 1) * kSmallEdges + 8> q;
         for (int k = 0; k < 4; ++k) q.push(quad[k]);
-        fold_to_grid(q, 0, polygon, width, height, out);
+        fold_to_grid(q, 0, polygon, inner, width, height, out);
     } else {
         BigPoly q;
         for (int k = 0; k < 4; ++k) q.push(quad[k]);
-        fold_to_grid(q, 0, polygon, width, height, out);
+        fold_to_grid(q, 0, polygon, inner, width, height, out);
     }
     // The same texel can be reached by the direct part and by mirrored parts: merge.
     for (size_t i = before; i < out.size(); ++i)
@@ -261,19 +262,40 @@ int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon,
     return static_cast<int>(out.size() - before);
 }
 
-std::vector<Vec2> face_in_texels(const Face& face) {
-    return polygon_in_texels(face.texels, face.vertices);
+FaceInTexels face_in_texels(const Face& face, const TexelFrame& chart) {
+    FaceInTexels out;
+    const size_t n = face.vertices.size();
+    out.polygon.reserve(n);
+    for (const Vec3& v : face.vertices) out.polygon.push_back(chart.to_texel(v));
+    double twice_area = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+        const Vec2& a = out.polygon[k];
+        const Vec2& b = out.polygon[(k + 1) % n];
+        twice_area += a.x * b.y - a.y * b.x;
+    }
+    out.inner = face.inner_edges;
+    if (twice_area < 0) {
+        // Reversed, edge e (e -> e+1) becomes edge n-2-e (mod n): polygon_in_texels' order.
+        std::reverse(out.polygon.begin(), out.polygon.end());
+        out.inner = 0;
+        for (size_t e = 0; e < n && e < 64; ++e)
+            if (face.inner_edges >> e & 1u) {
+                const size_t r = (2 * n - 2 - e) % n;
+                if (r < 64) out.inner |= uint64_t(1) << r;
+            }
+    }
+    return out;
 }
 
 int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
-                         const std::vector<Vec2>& polygon, int width, int height,
+                         const FaceInTexels& face, int width, int height,
                          std::vector<TexelOverlap>& out) {
     const double h = 1.0 / resolution;
     const double x = (2.0 * i + 1.0) / resolution - 1.0, y = (2.0 * j + 1.0) / resolution - 1.0;
     const Vec2 c = map(x, y);
     const Vec2 ax = map.dx * h, ay = map.dy * h;
     const Vec2 quad[4] = {c - ax - ay, c + ax - ay, c + ax + ay, c - ax + ay};
-    return clip_footprint_to_grid(quad, polygon, width, height, out);
+    return clip_footprint_to_grid(quad, face.polygon, face.inner, width, height, out);
 }
 
 }  // namespace vlf

@@ -18,14 +18,15 @@
 
 namespace vlf {
 
-// The affine map from rotated-frame (x, y) of a PSF to a face's texel coordinates:
+// The affine map from rotated-frame (x, y) of a PSF to its chart's texel coordinates (the
+// point on the face's plane, projected along the chart's normal):
 // texel = origin + x * dx + y * dy.
 struct PsfToTexel {
     Vec2 origin{0.0}, dx{0.0}, dy{0.0};
     Vec2 operator()(double x, double y) const { return origin + x * dx + y * dy; }
 };
 
-PsfToTexel psf_to_texel(const Face& face, const Mat3& rotation);
+PsfToTexel psf_to_texel(const Face& face, const TexelFrame& chart, const Mat3& rotation);
 
 struct TexelOverlap {
     uint32_t texel;  // j * width + i
@@ -44,17 +45,24 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
 // For a straight edge this is unbiased: averaged over the position of the ray grid, every
 // point of the face receives the same weight density (the footprint is centrally
 // symmetric, so the mirrored spill fills exactly the expected gap). The quad and the
-// convex polygon (counter-clockwise) are in texel coordinates.
-int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, int width,
-                           int height, std::vector<TexelOverlap>& out);
+// convex polygon (counter-clockwise) are in texel coordinates. Edges in `inner` (bit e:
+// edge e, from vertex e to e+1) are shared with another face of the same chart: the beam
+// runs on over them into that face's part of the same grid, unclipped (docs/charts.md).
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, uint64_t inner,
+                           int width, int height, std::vector<TexelOverlap>& out);
 
-// The face's polygon in its texel coordinates, counter-clockwise.
-std::vector<Vec2> face_in_texels(const Face& face);
+// A face's polygon in its chart's texel coordinates, counter-clockwise, and which of its
+// edges lie inside the chart (Face::inner_edges, renumbered if the winding turned).
+struct FaceInTexels {
+    std::vector<Vec2> polygon;
+    uint64_t inner = 0;
+};
+FaceInTexels face_in_texels(const Face& face, const TexelFrame& chart);
 
-// Overlaps of the beam of pixel (i, j) of an N x N PSF, clipped to the face's polygon (in
-// texel coordinates, from face_in_texels), with the face's texels.
+// Overlaps of the beam of pixel (i, j) of an N x N PSF, clipped to the face's rim (in
+// texel coordinates, from face_in_texels), with its chart's texels.
 int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
-                         const std::vector<Vec2>& polygon, int width, int height,
+                         const FaceInTexels& face, int width, int height,
                          std::vector<TexelOverlap>& out);
 
 }  // namespace vlf

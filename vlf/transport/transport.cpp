@@ -53,14 +53,14 @@ int64_t Transport::memory_bytes() const {
 }
 
 void Transport::load_emission(LedgerEntry& e) {
-    for (const Face& f : m_scene.faces) {
-        const Material& mat = m_scene.material_of(f);
+    for (const Chart& c : m_scene.charts) {
+        const Material& mat = m_scene.material_of(c);
         if (!mat.is_emitter()) continue;
-        const size_t b = m_tex.begin(f.id);
-        for (size_t t = 0; t < m_tex.count(f.id); ++t) {
-            // Exitance M = pi * Le of a Lambertian emitter, times the texel's area inside
-            // the face: the texel's emitted power.
-            const Rgb p = mat.emission * (kPi * f.texel_area[t]);
+        const size_t b = m_tex.begin(c.id);
+        for (size_t t = 0; t < m_tex.count(c.id); ++t) {
+            // Exitance M = pi * Le of a Lambertian emitter, times the chart's area in the
+            // texel: the texel's emitted power.
+            const Rgb p = mat.emission * (kPi * c.texel_area[t]);
             m_tex.current[b + t] += p;
             m_tex.total[b + t] += p;
             e.emitted += p;
@@ -68,7 +68,7 @@ void Transport::load_emission(LedgerEntry& e) {
     }
 }
 
-// VLF §4.5: a face whose unshot power is small against what the scene as a whole is
+// VLF §4.5: a chart whose unshot power is small against what the scene as a whole is
 // expected to hold next cycle (rho_S times today's mean unshot exitance, eq. (4)) keeps
 // accumulating instead of shooting. kappa < 1 keeps the threshold conservative.
 void Transport::choose_deferred(bool last) {
@@ -76,17 +76,17 @@ void Transport::choose_deferred(bool last) {
     if (!m_params.deferred || last || m_ledger.empty()) return;
     constexpr double kappa = 0.5;
     double unshot = 0.0, area = 0.0;
-    std::vector<double> u(m_scene.faces.size());
-    for (const Face& f : m_scene.faces) {
-        u[f.id] = luminance(TextureMaps::sum(m_tex.current, m_tex.begin(f.id), m_tex.count(f.id)));
-        unshot += u[f.id];
-        area += f.area;
+    std::vector<double> u(m_scene.charts.size());
+    for (const Chart& c : m_scene.charts) {
+        u[c.id] = luminance(TextureMaps::sum(m_tex.current, m_tex.begin(c.id), m_tex.count(c.id)));
+        unshot += u[c.id];
+        area += c.area;
     }
     if (unshot <= 0.0) return;
     const double mean_exitance = unshot / area;
-    for (const Face& f : m_scene.faces)
-        if (u[f.id] > 0.0 && u[f.id] < kappa * m_mean_reflectance * mean_exitance * f.area)
-            m_deferred[f.id] = 1;
+    for (const Chart& c : m_scene.charts)
+        if (u[c.id] > 0.0 && u[c.id] < kappa * m_mean_reflectance * mean_exitance * c.area)
+            m_deferred[c.id] = 1;
 }
 
 void Transport::run_pass(int pass, double share) {
@@ -122,7 +122,7 @@ void Transport::run_pass(int pass, double share) {
                                 .seal_gap = m_scene.seal_gap,
                                 .N = pc.N,
                                 .m = pc.m,
-                                .sending = reused ? nullptr : senders.sends.data()};
+                                .sending = reused ? nullptr : senders.face_sends.data()};
     const GeometryCache cache{.slots = m_cache.data() + size_t(pass) * size_t(l),
                               .used = m_cache_used,
                               .budget = reused ? m_params.cache_budget_mib << 20 : 0};
@@ -215,11 +215,11 @@ void Transport::run_cycle(bool last) {
 // L_U <- L_U next. Adds the power left unshot to `unshot` (texels, then mirrors' rays)
 // and the power deferred faces hold to `deferred`.
 void Transport::swap_maps(Rgb& unshot, Rgb& deferred) {
-    for (const Face& f : m_scene.faces) {
-        const size_t b = m_tex.begin(f.id), n = m_tex.count(f.id);
+    for (const Chart& c : m_scene.charts) {
+        const size_t b = m_tex.begin(c.id), n = m_tex.count(c.id);
         for (size_t t = b; t < b + n; ++t) {
             m_tex.total[t] += m_tex.next[t];
-            if (m_deferred[f.id]) {
+            if (m_deferred[c.id]) {
                 m_tex.current[t] += m_tex.next[t];
                 deferred += m_tex.current[t];
             } else {

@@ -37,13 +37,15 @@
 #include "vlf/transport/ledger.hpp"
 #include "vlf/transport/parameters.hpp"
 #include "vlf/transport/rim_pools.hpp"
+#include "vlf/transport/texel_clip.hpp"
 
 namespace vlf {
 
 // Rays each face covers in each PSF: coverage[d * faces + f].
 std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
                                        int resolution, int tile);
-// Per face: sum over covered directions of |n . omega_d| * Delta_d (VLF §4.4 eq. (3)).
+// Per chart: sum over the directions it has rays in of its projected_cosine * Delta_d
+// (VLF §4.4 eq. (3)).
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
                                      const std::vector<Mat3>& rotations,
                                      const std::vector<uint32_t>& coverage);
@@ -97,7 +99,7 @@ class Transport {
     int64_t geometry_cache_bytes() const;
     // Directions whose geometry is kept across cycles (within params().cache_budget_mib).
     int cached_directions() const;
-    // Faces deferred in the last cycle run (VLF §4.5).
+    // Charts deferred in the last cycle run (VLF §4.5).
     const std::vector<uint8_t>& deferred() const { return m_deferred; }
     // Ledger values are kept in normalised units internally; this converts a power to
     // the user's units (area scale^-2).
@@ -107,7 +109,7 @@ class Transport {
     // The direction set of one pass: rotations to +z and the diffuse send normalisers.
     struct Pass {
         std::vector<Mat3> rotations;
-        std::vector<double> send_norm;  // per face: sum_d |n . omega_d| Delta_d, covered d
+        std::vector<double> send_norm;  // per chart: sum_d |n . omega_d| Delta_d, covered d
     };
     // Pass 0: the true directions; p >= 1: those of perturbation p (transport_setup.cpp).
     Pass make_pass(int p) const;
@@ -133,8 +135,8 @@ class Transport {
     TextureMaps m_tex;
     RadianceMaps m_spec;                        // L_U, L_T of specular faces
     RadianceMaps m_other;                       // L_T of the other faces (--store-all-rays)
-    std::vector<uint8_t> m_deferred;            // per face, this cycle
-    std::vector<std::vector<Vec2>> m_polygons;  // per face: its polygon in texel coordinates
+    std::vector<uint8_t> m_deferred;            // per chart, this cycle
+    std::vector<FaceInTexels> m_polygons;       // per face: its polygon in its chart's texels
     RimPools m_pools;                           // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;
     LedgerEntry m_running;            // cumulative absorbed/escaped/emitted

@@ -105,7 +105,7 @@ struct ChunkResult {
 // What a direction's geometry is built from (geometry_cache.cpp).
 struct GeometryInputs {
     const Scene& scene;
-    const std::vector<std::vector<Vec2>>& polygons;  // per face, in texel coordinates
+    const std::vector<FaceInTexels>& polygons;  // per face, in its chart's texel coordinates
     double seal_gap;                                 // exchange.hpp kSealed
     int N, m;                                        // the exchange grid
     // A pass whose geometry is used once clips only the rays of these faces (per face,
@@ -125,12 +125,17 @@ struct GeometryCache {
 const DirectionGeometry& direction_geometry(const GeometryInputs& in, const GeometryCache& cache,
                                             const Mat3& rot, int d, Scratch& w, StepTimes& times);
 
-// Which faces send diffuse power in a pass, and what they send.
+// Which charts send diffuse power in a pass, and what they send.
 struct Senders {
-    std::vector<uint8_t> sends;    // per face
-    std::vector<Rgb> face_unshot;  // per face: its unshot power U (zero if it does not send)
-    std::vector<Rgb> exitance;     // per texel: unshot exitance of the sending faces
+    std::vector<uint8_t> sends;       // per chart
+    std::vector<uint8_t> face_sends;  // per face: its chart sends
+    std::vector<Rgb> unshot;          // per chart: its unshot power U (zero if it does not send)
+    std::vector<Rgb> exitance;        // per texel: unshot exitance of the sending charts
 };
+
+// The area-weighted |n . omega| of a chart's faces in the rotated frame (+z = omega): a
+// chart's projected area per unit area in that direction (VLF §4.4 eq. (3)).
+double projected_cosine(const Scene& scene, const Chart& c, const Mat3& rotation);
 Senders find_senders(const Scene& scene, const TextureMaps& tex,
                      const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm);
 
@@ -143,7 +148,7 @@ struct PassContext {
     RadianceMaps& spec;                    // L_U, L_T of specular faces
     RadianceMaps& other;                   // L_T of the other faces (--store-all-rays)
     const std::vector<Mat3>& rotations;    // per direction of the pass
-    const std::vector<double>& send_norm;  // per face
+    const std::vector<double>& send_norm;  // per chart
     const Senders& senders;
     double share;          // 1 / the passes of the cycle: what each pass sends of a share
     bool true_directions;  // pass 0: radiance maps are read and written

@@ -27,19 +27,31 @@ std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat
     return cov;
 }
 
-// Sum over the directions a face has rays in of |n . omega_d| * Delta_d: the denominator
+double transport_detail::projected_cosine(const Scene& scene, const Chart& c,
+                                          const Mat3& rotation) {
+    if (c.faces.size() == 1) return std::abs((rotation * scene.faces[c.faces[0]].normal).z);
+    double s = 0.0;
+    for (int f : c.faces) s += scene.faces[f].area * std::abs((rotation * scene.faces[f].normal).z);
+    return s / c.area;
+}
+
+// Sum over the directions a chart has rays in of |n . omega_d| * Delta_d: the denominator
 // of the diffuse share (VLF §4.4 eq. (3), the "total projected unit area", corrected for
 // unequal solid angles — §5). Restricting it to covered directions makes the shares of
-// every face sum to exactly 1.
+// every chart sum to exactly 1.
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
                                      const std::vector<Mat3>& rotations,
                                      const std::vector<uint32_t>& coverage) {
     const size_t nf = scene.faces.size();
-    std::vector<double> norm(nf, 0.0);
-    for (size_t f = 0; f < nf; ++f)
-        for (int d = 0; d < dirs.size(); ++d)
-            if (coverage[size_t(d) * nf + f] > 0)
-                norm[f] += std::abs((rotations[d] * scene.faces[f].normal).z) * dirs.solid_angle(d);
+    std::vector<double> norm(scene.charts.size(), 0.0);
+    parallel_for(0, static_cast<long>(scene.charts.size()), [&](long k) {
+        const Chart& c = scene.charts[k];
+        for (int d = 0; d < dirs.size(); ++d) {
+            bool covered = false;
+            for (int f : c.faces) covered = covered || coverage[size_t(d) * nf + f] > 0;
+            if (covered) norm[k] += transport_detail::projected_cosine(scene, c, rotations[d]) * dirs.solid_angle(d);
+        }
+    });
     return norm;
 }
 
@@ -104,9 +116,10 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_spec = RadianceMaps(scene, spec, l, m_coverage, true);
     m_other = RadianceMaps(scene, other, l, m_coverage, false);
     m_mean_reflectance = mean_reflectance(scene);
-    m_deferred.assign(nf, 0);
+    m_deferred.assign(scene.charts.size(), 0);
     m_polygons.resize(nf);
-    for (size_t f = 0; f < nf; ++f) m_polygons[f] = face_in_texels(scene.faces[f]);
+    for (size_t f = 0; f < nf; ++f)
+        m_polygons[f] = face_in_texels(scene.faces[f], scene.chart_of(scene.faces[f]).texels);
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
     m_work = std::make_unique<Workspace>();

@@ -1,0 +1,146 @@
+// charts.cpp — region growing of charts over shared edges (charts.hpp).
+#include "vlf/scene/charts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <deque>
+
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/scene/texel_frame.hpp"
+
+namespace vlf {
+
+namespace {
+
+// One directed edge of a face, keyed by its two end points (ordered) so that the two faces
+// of a shared edge sort next to each other.
+struct EdgeRef {
+    uint64_t key;
+    int face;
+    int edge;
+};
+
+uint64_t point_hash(const Vec3& p) {
+    uint64_t h = 1469598103934665603ull;
+    for (int c = 0; c < 3; ++c) {
+        uint64_t bits;
+        const double x = p[c] == 0.0 ? 0.0 : p[c];  // -0 == +0
+        std::memcpy(&bits, &x, sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+        h ^= h >> 29;
+    }
+    return h;
+}
+
+bool less_point(const Vec3& a, const Vec3& b) {
+    return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+}
+
+// The two end points of edge e of f, lower first.
+std::pair<Vec3, Vec3> ends(const Face& f, int e) {
+    const Vec3& a = f.vertices[e];
+    const Vec3& b = f.vertices[(size_t(e) + 1) % f.vertices.size()];
+    return less_point(a, b) ? std::pair{a, b} : std::pair{b, a};
+}
+
+// Per face edge (offset[f] + e): the neighbouring face across it, or -1. A neighbour runs
+// the edge the other way, has the same material and a normal within `cos_max` of the
+// face's; an edge with more than one such candidate has none.
+std::vector<int> find_neighbours(const std::vector<Face>& faces, const std::vector<size_t>& offset,
+                                 double cos_max) {
+    std::vector<EdgeRef> edges;
+    edges.reserve(offset.back());
+    for (const Face& f : faces)
+        for (int e = 0; e < int(f.vertices.size()); ++e) {
+            const auto [a, b] = ends(f, e);
+            edges.push_back({point_hash(a) * 31 ^ point_hash(b), f.id, e});
+        }
+    std::sort(edges.begin(), edges.end(), [](const EdgeRef& x, const EdgeRef& y) {
+        return std::tie(x.key, x.face, x.edge) < std::tie(y.key, y.face, y.edge);
+    });
+    std::vector<int> out(offset.back(), -1);
+    for (size_t lo = 0; lo < edges.size();) {
+        size_t hi = lo + 1;
+        while (hi < edges.size() && edges[hi].key == edges[lo].key) ++hi;
+        for (size_t i = lo; i < hi; ++i) {
+            const Face& f = faces[edges[i].face];
+            const Vec3& fa = f.vertices[edges[i].edge];
+            int found = -1, count = 0;
+            for (size_t j = lo; j < hi; ++j) {
+                if (j == i) continue;
+                const Face& g = faces[edges[j].face];
+                if (g.id == f.id || g.material != f.material) continue;
+                if (ends(f, edges[i].edge) != ends(g, edges[j].edge)) continue;  // hash clash
+                if (!(g.vertices[edges[j].edge] != fa)) continue;  // same direction: not a seam
+                if (glm::dot(f.normal, g.normal) < cos_max) continue;
+                found = g.id;
+                ++count;
+            }
+            if (count == 1) out[offset[f.id] + edges[i].edge] = found;
+        }
+        lo = hi;
+    }
+    return out;
+}
+
+}  // namespace
+
+void build_charts(Scene& scene, double texel_size, int max_texels_per_side,
+                  double max_angle_deg) {
+    std::vector<Face>& faces = scene.faces;
+    const size_t nf = faces.size();
+    std::vector<size_t> offset(nf + 1, 0);
+    for (size_t f = 0; f < nf; ++f) offset[f + 1] = offset[f] + faces[f].vertices.size();
+    const double cos_max = std::cos(max_angle_deg * kPi / 180.0);
+    const std::vector<int> neighbour = max_angle_deg > 0
+                                           ? find_neighbours(faces, offset, cos_max)
+                                           : std::vector<int>(offset.back(), -1);
+
+    scene.charts.clear();
+    for (Face& f : faces) f.chart = -1, f.inner_edges = 0;
+    std::deque<int> queue;
+    for (size_t seed = 0; seed < nf; ++seed) {
+        if (faces[seed].chart >= 0) continue;
+        Chart c;
+        c.id = static_cast<int>(scene.charts.size());
+        c.material = faces[seed].material;
+        const Vec3 n0 = faces[seed].normal;
+        faces[seed].chart = c.id;
+        queue.push_back(int(seed));
+        while (!queue.empty()) {
+            const int f = queue.front();
+            queue.pop_front();
+            c.faces.push_back(f);
+            for (size_t e = 0; e < faces[f].vertices.size(); ++e) {
+                const int g = neighbour[offset[f] + e];
+                if (g < 0 || faces[g].chart >= 0) continue;
+                if (glm::dot(faces[g].normal, n0) < cos_max) continue;
+                faces[g].chart = c.id;
+                queue.push_back(g);
+            }
+        }
+        scene.charts.push_back(std::move(c));
+    }
+    for (Face& f : faces)
+        for (size_t e = 0; e < f.vertices.size() && e < 64; ++e) {
+            const int g = neighbour[offset[f.id] + e];
+            if (g >= 0 && faces[g].chart == f.chart) f.inner_edges |= uint64_t(1) << e;
+        }
+    parallel_for(0, static_cast<long>(scene.charts.size()), [&](long k) {
+        Chart& c = scene.charts[k];
+        Vec3 sum(0.0);
+        c.area = 0.0;
+        c.planar = true;
+        for (int f : c.faces) {
+            sum += faces[f].normal * faces[f].area;
+            c.area += faces[f].area;
+            c.planar = c.planar && faces[f].normal == faces[c.faces[0]].normal;
+        }
+        c.normal = c.planar ? faces[c.faces[0]].normal : glm::normalize(sum);
+        build_chart_texels(c, faces, texel_size, max_texels_per_side);
+    });
+}
+
+}  // namespace vlf
