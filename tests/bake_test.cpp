@@ -187,8 +187,8 @@ TEST(BakeMake, RaysMatchTheSpecularMaps) {
     ASSERT_GE(lamp, 0);
     const Face& lf = fx.scene.faces[lamp];
     double best = 0;
-    for (size_t t2 = 0; t2 < lf.texel_area.size(); ++t2)
-        best = std::max(best, b.lightmap_radiance[b.texel_offset[lamp] + t2].x);
+    for (size_t t2 = 0; t2 < fx.scene.chart_of(lf).texel_area.size(); ++t2)
+        best = std::max(best, b.lightmap_radiance[b.texel_offset[lf.chart] + t2].x);
     EXPECT_GE(best, 10.0 * 0.99);
 }
 
@@ -230,16 +230,27 @@ TEST_F(BakeBundle, RoundTrip) {
         expect_same_vec(fa.normal, fb.normal);
         EXPECT_EQ(fa.plane_offset, fb.plane_offset);
         EXPECT_EQ(fa.area, fb.area);
-        expect_same_vec(fa.texels.origin, fb.texels.origin);
-        expect_same_vec(fa.texels.axis_u, fb.texels.axis_u);
-        expect_same_vec(fa.texels.axis_v, fb.texels.axis_v);
-        EXPECT_EQ(fa.texels.size, fb.texels.size);
-        EXPECT_EQ(fa.texels.width, fb.texels.width);
-        EXPECT_EQ(fa.texels.height, fb.texels.height);
-        EXPECT_EQ(fa.texel_area, fb.texel_area);
+        EXPECT_EQ(fa.chart, fb.chart);
+        EXPECT_EQ(fa.inner_edges, fb.inner_edges);
         EXPECT_EQ(fa.material, fb.material);
         EXPECT_EQ(fa.object, fb.object);
         EXPECT_EQ(fa.twin, fb.twin);
+    }
+    ASSERT_EQ(a.scene.charts.size(), b.scene.charts.size());
+    for (size_t c = 0; c < a.scene.charts.size(); ++c) {
+        const Chart &ca = a.scene.charts[c], &cb = b.scene.charts[c];
+        EXPECT_EQ(ca.faces, cb.faces);
+        EXPECT_EQ(ca.material, cb.material);
+        EXPECT_EQ(ca.planar, cb.planar);
+        EXPECT_EQ(ca.area, cb.area);
+        expect_same_vec(ca.normal, cb.normal);
+        expect_same_vec(ca.texels.origin, cb.texels.origin);
+        expect_same_vec(ca.texels.axis_u, cb.texels.axis_u);
+        expect_same_vec(ca.texels.axis_v, cb.texels.axis_v);
+        EXPECT_EQ(ca.texels.size, cb.texels.size);
+        EXPECT_EQ(ca.texels.width, cb.texels.width);
+        EXPECT_EQ(ca.texels.height, cb.texels.height);
+        EXPECT_EQ(ca.texel_area, cb.texel_area);
     }
     ASSERT_EQ(b.scene.materials.size(), a.scene.materials.size());
     for (size_t k = 0; k < a.scene.materials.size(); ++k) {
@@ -478,9 +489,9 @@ TEST_F(BakeBundle, SceneJsonWithAnUnknownKeyOrWrongType) {
     const nlohmann::json original = read_json("scene.json");
     auto write_scene = [&](const nlohmann::json& s) { write_scene_with_checksum(s); };
     nlohmann::json s = original;
-    s["faces"][2]["texels"]["colour"] = 1;
+    s["charts"][2]["texels"]["colour"] = 1;
     write_scene(s);
-    expect_refused({m_bundle + "/scene.json: faces[2].texels.colour: unknown key"});
+    expect_refused({m_bundle + "/scene.json: charts[2].texels.colour: unknown key"});
     s = original;
     s["faces"][1]["material"] = 99;
     write_scene(s);
@@ -491,9 +502,13 @@ TEST_F(BakeBundle, SceneJsonWithAnUnknownKeyOrWrongType) {
     expect_refused(
         {m_bundle + "/scene.json: faces[3].vertices[1][1]: expected a number, got \"x\""});
     s = original;
-    s["faces"][0]["texel_area"].erase(0);
+    s["charts"][0]["texel_area"].erase(0);
     write_scene(s);
-    expect_refused({m_bundle + "/scene.json: faces[0].texel_area: ", " entries for a "});
+    expect_refused({m_bundle + "/scene.json: charts[0].texel_area: ", " entries for a "});
+    s = original;
+    s["faces"][1]["chart"] = 0;
+    write_scene(s);
+    expect_refused({m_bundle + "/scene.json: charts[", "names chart 0"});
 }
 
 TEST_F(BakeBundle, DamageBehindAForgedChecksumNeverCrashes) {

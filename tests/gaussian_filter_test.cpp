@@ -22,7 +22,7 @@ TEST(GaussianFilter, UniformFieldStaysUniformAtEveryRim) {
     const Scene scene = odd_faces();
     for (double sigma : {0.7, 1.0, 2.5}) {
         TextureMaps maps(scene);
-        fill(scene, maps, [](const Face&, size_t) { return 3.0; });
+        fill(scene, maps, [](const Chart&, size_t) { return 3.0; });
         gaussian_filter_next(scene, maps, sigma);
         expect_uniform(scene, maps, 3.0);
     }
@@ -33,21 +33,21 @@ TEST(GaussianFilter, ConservesPowerAndSmoothsLikeAGaussianInside) {
     TextureMaps maps(scene);
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(0.0, 2.0);
-    fill(scene, maps, [&](const Face&, size_t) { return u(rng); });
-    const double before0 = face_power(maps, scene.faces[0]),
-                 before1 = face_power(maps, scene.faces[1]);
+    fill(scene, maps, [&](const Chart&, size_t) { return u(rng); });
+    const double before0 = face_power(maps, scene.charts[0]),
+                 before1 = face_power(maps, scene.charts[1]);
     gaussian_filter_next(scene, maps, 1.0);
-    EXPECT_NEAR(face_power(maps, scene.faces[0]), before0, 1e-12 * before0);
-    EXPECT_NEAR(face_power(maps, scene.faces[1]), before1, 1e-12 * before1);
+    EXPECT_NEAR(face_power(maps, scene.charts[0]), before0, 1e-12 * before0);
+    EXPECT_NEAR(face_power(maps, scene.charts[1]), before1, 1e-12 * before1);
 
     // An impulse in the rectangle: what its neighbours receive follows the Gaussian of
     // their distance (a diagonal neighbour exp(-1 / (2 sigma^2)) of a side neighbour; the
     // impulse itself keeps the weight of the kernel cells beyond the rim as well).
-    const Face& f = scene.faces[0];
+    const Chart& f = scene.charts[0];
     const int W = f.texels.width;
     const size_t c = size_t(2) * W + 3;
     ASSERT_GE(f.texel_area[c], 0.999 * f.texels.size * f.texels.size);
-    fill(scene, maps, [&](const Face& g, size_t k) { return g.id == 0 && k == c ? 1.0 : 0.0; });
+    fill(scene, maps, [&](const Chart& g, size_t k) { return g.id == 0 && k == c ? 1.0 : 0.0; });
     gaussian_filter_next(scene, maps, 0.7);
     const size_t b = maps.begin(0);
     const double g1 = std::exp(-1.0 / (2 * 0.49));

@@ -15,10 +15,15 @@
 namespace vlf {
 namespace {
 
-Face textured_face(const std::vector<Vec3>& vertices, double texel) {
-    Face f = test::make_face(vertices);
-    build_texel_frame(f, texel, 512);
-    return f;
+// A chart of one face.
+Chart textured_face(const std::vector<Vec3>& vertices, double texel) {
+    const std::vector<Face> faces{test::make_face(vertices)};
+    Chart c;
+    c.faces = {0};
+    c.normal = faces[0].normal;
+    c.area = faces[0].area;
+    build_chart_texels(c, faces, texel, 512);
+    return c;
 }
 
 TEST(Lightmap, LinearRadianceIsReproducedInside) {
@@ -26,7 +31,7 @@ TEST(Lightmap, LinearRadianceIsReproducedInside) {
     const Vec3 a(0.1, -0.2, 0.3), eu = glm::normalize(Vec3(1, 0.2, -0.1));
     const Vec3 ev = glm::normalize(glm::cross(Vec3(0.3, 0.1, 1.0), eu));
     const double texel = 0.05;
-    const Face f = textured_face({a, a + 0.5 * eu, a + 0.5 * eu + 0.3 * ev, a + 0.3 * ev}, texel);
+    const Chart f = textured_face({a, a + 0.5 * eu, a + 0.5 * eu + 0.3 * ev, a + 0.3 * ev}, texel);
     ASSERT_GE(f.texels.width, 6);
     ASSERT_GE(f.texels.height, 6);
     const Vec3 gx(2.0, -1.0, 0.5), gy(-0.3, 4.0, 1.0), gz(1.0, 1.0, -2.0);
@@ -69,7 +74,7 @@ TEST(Lightmap, LinearRadianceIsReproducedInside) {
 TEST(Lightmap, UnreliableRimTexelsGetNoWeight) {
     // A right triangle: texels along the hypotenuse are partly outside; those below 25%
     // carry an absurd radiance that must never show.
-    const Face f = textured_face({{0, 0, 0}, {0.4, 0, 0}, {0, 0.3, 0}}, 0.023);
+    const Chart f = textured_face({{0, 0, 0}, {0.4, 0, 0}, {0, 0.3, 0}}, 0.023);
     const double reliable = kReliableTexelFraction * f.texels.size * f.texels.size;
     std::vector<Rgb> rad(f.texels.count());
     int unreliable = 0;
@@ -91,7 +96,7 @@ TEST(Lightmap, UnreliableRimTexelsGetNoWeight) {
         EXPECT_NEAR(v.y, 2.0, 1e-12);
     }
     // A sliver face with no reliable texel falls back to its largest texel.
-    const Face s = textured_face({{0, 0, 0}, {0.4, 0, 0}, {0.4, 0.004, 0}, {0, 0.004, 0}}, 0.05);
+    const Chart s = textured_face({{0, 0, 0}, {0.4, 0, 0}, {0.4, 0.004, 0}, {0, 0.004, 0}}, 0.05);
     ASSERT_GT(s.texels.width, 2);
     std::vector<Rgb> srad(s.texels.count());
     for (size_t k = 0; k < srad.size(); ++k) srad[k] = Rgb(double(k) + 1.0);
@@ -109,7 +114,7 @@ TEST(Lightmap, TexelRadianceIsPowerOverPiArea) {
     for (size_t k = 0; k < maps.texels(); ++k) maps.total[k] = Rgb(1.0 + k % 5, 2.0, 0.5);
     const std::vector<Rgb> r = texel_radiance(s, maps);
     ASSERT_EQ(r.size(), maps.texels());
-    for (const Face& f : s.faces)
+    for (const Chart& f : s.charts)
         for (size_t t = 0; t < maps.count(f.id); ++t) {
             const Rgb want = f.texel_area[t] > 0
                                  ? maps.total[maps.begin(f.id) + t] / (kPi * f.texel_area[t])

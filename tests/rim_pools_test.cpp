@@ -23,19 +23,19 @@ TEST(RimPools, SliversShareTheirHostsValueAndPowerIsKept) {
     const RimPools pools = build_rim_pools(scene, maps);
     ASSERT_FALSE(pools.empty());
     // A uniform field is unchanged.
-    fill(scene, maps, [](const Face&, size_t) { return 2.0; });
+    fill(scene, maps, [](const Chart&, size_t) { return 2.0; });
     pool_rim_texels(pools, scene, maps, maps.next);
     expect_uniform(scene, maps, 2.0);
     // Any field: power per face kept; a pooled texel shows its host's exitance; hosts are
     // at least half inside, every pooled texel less than wholly inside.
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0.0, 2.0);
-    fill(scene, maps, [&](const Face&, size_t) { return u(rng); });
-    const double before = face_power(maps, scene.faces[1]);
+    fill(scene, maps, [&](const Chart&, size_t) { return u(rng); });
+    const double before = face_power(maps, scene.charts[1]);
     pool_rim_texels(pools, scene, maps, maps.next);
-    EXPECT_NEAR(face_power(maps, scene.faces[1]), before, 1e-12 * before);
+    EXPECT_NEAR(face_power(maps, scene.charts[1]), before, 1e-12 * before);
     int pooled = 0;
-    for (const Face& f : scene.faces) {
+    for (const Chart& f : scene.charts) {
         const double cell = f.texels.size * f.texels.size;
         for (size_t k = 0; k < maps.count(f.id); ++k) {
             const size_t t = maps.begin(f.id) + k, h = pools.host[t];

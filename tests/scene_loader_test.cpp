@@ -1,6 +1,7 @@
 // scene_loader_test.cpp — JSON scenes to vlf::Scene (vlf/scene/scene_loader.hpp): the shipped
 // scenes, normalisation, texel frames, mesh import, transforms and every class of bad input.
 #include "vlf/scene/scene_loader.hpp"
+#include "vlf/scene/texel_frame.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -164,50 +165,62 @@ TEST(SceneNormalisation, RoundTrips) {
 }
 
 void expect_texels_cover_faces(const Scene& s, double texel_size_normalised, int cap) {
-    for (const Face& f : s.faces) {
-        const TexelFrame& t = f.texels;
-        ASSERT_EQ(f.texel_area.size(), static_cast<size_t>(t.count()));
+    size_t in_charts = 0;
+    for (const Chart& c : s.charts) {
+        const TexelFrame& t = c.texels;
+        ASSERT_EQ(c.texel_area.size(), static_cast<size_t>(t.count()));
         EXPECT_GE(t.width, 1);
         EXPECT_GE(t.height, 1);
         EXPECT_LE(t.width, cap);
         EXPECT_LE(t.height, cap);
         EXPECT_GE(t.size, texel_size_normalised * (1 - 1e-12));
         EXPECT_NEAR(glm::dot(t.axis_u, t.axis_v), 0, 1e-14);
-        EXPECT_NEAR(glm::length(glm::cross(t.axis_u, t.axis_v) - f.normal), 0, 1e-14);
-        double sum = 0;
-        for (double a : f.texel_area) {
+        EXPECT_NEAR(glm::length(glm::cross(t.axis_u, t.axis_v) - c.normal), 0, 1e-14);
+        double sum = 0, max_scale = 1.0, area = 0.0;
+        for (int fi : c.faces) {
+            EXPECT_EQ(s.faces[fi].chart, c.id);
+            max_scale = std::max(max_scale, projected_area_scale(c, s.faces[fi]));
+            area += s.faces[fi].area;
+        }
+        in_charts += c.faces.size();
+        EXPECT_NEAR(area, c.area, 1e-12 * area);
+        for (double a : c.texel_area) {
             EXPECT_GE(a, 0);
-            EXPECT_LE(a, t.size * t.size * (1 + 1e-12));
+            EXPECT_LE(a, t.size * t.size * max_scale * (1 + 1e-12));
             sum += a;
         }
-        // The texels cover the face, less what a face right in front of it seals
+        // The texels cover the chart's faces, less what a face right in front of one seals
         // (sealed_areas.hpp; exact figures in tests/sealed_areas_test.cpp).
         bool behind_another = false;
-        for (const Face& g : s.faces) {
-            const double d = g.plane_offset - f.plane_offset;
-            behind_another = behind_another ||
-                             (glm::dot(g.normal, f.normal) > 1 - 1e-6 && d > 0 && d <= s.seal_gap);
-        }
+        for (int fi : c.faces)
+            for (const Face& g : s.faces) {
+                const Face& f = s.faces[fi];
+                const double d = g.plane_offset - f.plane_offset;
+                behind_another = behind_another || (glm::dot(g.normal, f.normal) > 1 - 1e-6 &&
+                                                    d > 0 && d <= s.seal_gap);
+            }
         if (behind_another)
-            EXPECT_LE(sum, f.area * (1 + 1e-9)) << "face " << f.id;
+            EXPECT_LE(sum, c.area * (1 + 1e-9)) << "chart " << c.id;
         else
-            EXPECT_NEAR(sum, f.area, 1e-9 * f.area) << "face " << f.id;
-        for (const Vec3& v : f.vertices) {
-            const Vec2 c = t.to_texel(v);
-            EXPECT_GE(c.x, -1e-9);
-            EXPECT_GE(c.y, -1e-9);
-            EXPECT_LE(c.x, t.width + 1e-9);
-            EXPECT_LE(c.y, t.height + 1e-9);
-            EXPECT_NEAR(glm::length(t.to_plane(c) - v), 0, 1e-12);
-        }
+            EXPECT_NEAR(sum, c.area, 1e-9 * c.area) << "chart " << c.id;
+        for (int fi : c.faces)
+            for (const Vec3& v : s.faces[fi].vertices) {
+                const Vec2 x = t.to_texel(v);
+                EXPECT_GE(x.x, -1e-9);
+                EXPECT_GE(x.y, -1e-9);
+                EXPECT_LE(x.x, t.width + 1e-9);
+                EXPECT_LE(x.y, t.height + 1e-9);
+                if (c.planar) EXPECT_NEAR(glm::length(t.to_plane(x) - v), 0, 1e-12);
+            }
     }
+    EXPECT_EQ(in_charts, s.faces.size());
 }
 
 TEST(SceneTexels, AreasSumToTheFaceArea) {
     const Scene s = load_cornell();
     expect_texels_cover_faces(s, s.texel_size_user * s.normalisation.scale, 512);
     const Face& floor = s.faces[object_named(s, "floor").first_face];
-    EXPECT_GT(floor.texels.width, 30);  // ~552.8 mm / 15 mm
+    EXPECT_GT(s.chart_of(floor).texels.width, 30);  // ~552.8 mm / 15 mm
     // A finer grid and a cap that forces some faces to coarser texels.
     LoadOptions o;
     o.texel_size_user = 3.0;
@@ -216,8 +229,9 @@ TEST(SceneTexels, AreasSumToTheFaceArea) {
     EXPECT_DOUBLE_EQ(fine.texel_size_user, 3.0);
     expect_texels_cover_faces(fine, 3.0 * fine.normalisation.scale, 64);
     const Face& ffloor = fine.faces[object_named(fine, "floor").first_face];
-    EXPECT_EQ(std::max(ffloor.texels.width, ffloor.texels.height), 64);
-    EXPECT_GT(ffloor.texels.size, 3.0 * fine.normalisation.scale);
+    const TexelFrame& fgrid = fine.chart_of(ffloor).texels;
+    EXPECT_EQ(std::max(fgrid.width, fgrid.height), 64);
+    EXPECT_GT(fgrid.size, 3.0 * fine.normalisation.scale);
 }
 
 TEST(SceneClosedBox, LoadsClosedAndFacingInward) {
@@ -310,9 +324,9 @@ TEST(SceneSettings, TexelSizeFromTheFileAndTheOptions) {
     const Scene s = load_objects(kLamp, R"(, "settings": {"texel_size": 0.25, "units": "m"})");
     EXPECT_DOUBLE_EQ(s.texel_size_user, 0.25);
     EXPECT_EQ(s.units, "m");
-    EXPECT_EQ(s.faces[0].texels.width, 4);
-    EXPECT_EQ(s.faces[0].texels.height, 4);
-    for (double a : s.faces[0].texel_area) EXPECT_NEAR(a, s.faces[0].area / 16, 1e-12);
+    EXPECT_EQ(s.charts[0].texels.width, 4);
+    EXPECT_EQ(s.charts[0].texels.height, 4);
+    for (double a : s.charts[0].texel_area) EXPECT_NEAR(a, s.faces[0].area / 16, 1e-12);
     LoadOptions o;
     o.texel_size_user = 0.5;
     EXPECT_DOUBLE_EQ(

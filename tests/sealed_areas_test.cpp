@@ -29,7 +29,7 @@ Scene wall_and_panel(double gap, bool facing_wall) {
 
 double user_area(const Scene& s, const Face& f) {
     double a = 0.0;
-    for (double t : f.texel_area) a += t;
+    for (double t : s.chart_of(f).texel_area) a += t;
     return a / (s.normalisation.scale * s.normalisation.scale);
 }
 
@@ -40,9 +40,10 @@ TEST(SealedAreas, PanelInContactIsCutOutOfTheWallExactly) {
     EXPECT_NEAR(user_area(s, s.faces[1]), 0.35, 1e-9);  // the panel keeps its own area
     // A texel wholly behind the panel has none left; one wholly beside it keeps its cell.
     const Face& w = s.faces[0];
-    const double cell = w.texels.size * w.texels.size;
+    const Chart& wc = s.chart_of(w);
+    const double cell = wc.texels.size * wc.texels.size;
     int emptied = 0, whole = 0;
-    for (double a : w.texel_area) {
+    for (double a : wc.texel_area) {
         emptied += a == 0.0;
         whole += std::abs(a - cell) < 1e-12 * cell;
     }

@@ -62,9 +62,9 @@ inline  // A bake holding only a scene (zero light maps, no rays): enough for th
     scene_only_bake(const Scene& scene) {
     Bake b;
     b.scene = scene;
-    b.texel_offset.assign(scene.faces.size() + 1, 0);
-    for (size_t f = 0; f < scene.faces.size(); ++f)
-        b.texel_offset[f + 1] = b.texel_offset[f] + size_t(scene.faces[f].texels.count());
+    b.texel_offset.assign(scene.charts.size() + 1, 0);
+    for (size_t f = 0; f < scene.charts.size(); ++f)
+        b.texel_offset[f + 1] = b.texel_offset[f] + size_t(scene.charts[f].texels.count());
     b.lightmap_radiance.assign(b.texel_offset.back(), Rgb(0.0));
     return b;
 }

@@ -19,22 +19,22 @@ inline Scene odd_faces() {
 // P = B * area: a field of exitance B(face, texel) in the next maps.
 template <class F>
 void fill(const Scene& scene, TextureMaps& maps, F&& exitance) {
-    for (const Face& f : scene.faces)
+    for (const Chart& f : scene.charts)
         for (size_t k = 0; k < maps.count(f.id); ++k)
             maps.next[maps.begin(f.id) + k] = Rgb(exitance(f, k)) * f.texel_area[k];
 }
 
-inline double face_power(const TextureMaps& maps, const Face& f) {
+inline double face_power(const TextureMaps& maps, const Chart& f) {
     return TextureMaps::sum(maps.next, maps.begin(f.id), maps.count(f.id)).x;
 }
 
 // Every texel with area inside its face shows exitance `value` (to rounding).
 inline void expect_uniform(const Scene& scene, const TextureMaps& maps, double value) {
-    for (const Face& f : scene.faces)
+    for (const Chart& f : scene.charts)
         for (size_t k = 0; k < maps.count(f.id); ++k) {
             if (f.texel_area[k] <= 0.0) continue;
             EXPECT_NEAR(maps.next[maps.begin(f.id) + k].x / f.texel_area[k], value, 1e-12 * value)
-                << "face " << f.id << " texel " << k << " (inside "
+                << "chart " << f.id << " texel " << k << " (inside "
                 << f.texel_area[k] / (f.texels.size * f.texels.size) << ")";
         }
 }

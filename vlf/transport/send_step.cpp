@@ -58,6 +58,10 @@ Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t f,
 void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c,
                   std::vector<Rgb>& out, NumericalLoss& lost) {
     const DirectionGeometry& g = pd.g;
+    // Only directions the chart has rays in are in its normaliser.
+    bool covered = false;
+    for (int f : c.faces) covered = covered || g.face_begin[f] != g.face_begin[f + 1];
+    if (!covered) return;
     const double nz = projected_cosine(pc.scene, c, pc.rotations[pd.d]);
     const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[c.id];
     uint32_t rays = 0;
