@@ -182,7 +182,7 @@ TEST(TexelClip, FootprintWeightsAreUnbiasedAtTheRim) {
                 const Vec2 q[4] = {c - dx * 0.5 - dy * 0.5, c + dx * 0.5 - dy * 0.5,
                                    c + dx * 0.5 + dy * 0.5, c - dx * 0.5 + dy * 0.5};
                 ov.clear();
-                clip_footprint_to_grid(q, poly, 0, W, H, ov);
+                clip_footprint_to_grid(q, polygon_rim(poly), W, H, ov);
                 double sum = 0.0;
                 for (const TexelOverlap& o : ov) sum += o.area;
                 ASSERT_GT(sum, 0.0);

@@ -84,23 +84,22 @@ std::vector<Vec2> intersect_convex(std::vector<Vec2> subject, const std::vector<
 
 namespace {
 
-// The direction of axis_u in the chart's plane: a single face's longest edge; for a chart
-// of several faces the direction along which its rim (edges not shared inside the chart)
-// is longest in total, so a polygon cut into triangles gets the grid of the polygon.
+// The direction of axis_u in the chart's plane: the direction along which its rim (the
+// edges not shared inside the chart; every edge of a single face) is longest in total, so
+// a polygon cut into triangles gets the grid of the polygon.
+// Of two rim directions equally long in total, the canonical one: the larger x, then y, then
+// z, so the grid does not depend on where a polygon's vertex list starts or how a surface
+// is cut.
+bool canonical_before(const Vec3& a, const Vec3& b) {
+    constexpr double eps = 1e-9;
+    for (int c = 0; c < 3; ++c)
+        if (std::abs(a[c] - b[c]) > eps) return a[c] > b[c];
+    return false;
+}
+
 Vec3 chart_axis_u(const Chart& chart, const std::vector<Face>& faces) {
     const Vec3 n = chart.normal;
     auto in_plane = [&](const Vec3& e) { return e - n * glm::dot(e, n); };
-    if (chart.faces.size() == 1) {
-        const std::vector<Vec3>& p = faces[chart.faces[0]].vertices;
-        const size_t m = p.size();
-        size_t longest = 0;
-        double best = -1;
-        for (size_t i = 0; i < m; ++i) {
-            const double l = glm::length(p[(i + 1) % m] - p[i]);
-            if (l > best) best = l, longest = i;
-        }
-        return glm::normalize(in_plane(p[(longest + 1) % m] - p[longest]));
-    }
     constexpr size_t kMaxGroups = 64;
     std::vector<std::pair<Vec3, double>> groups;  // unit direction, total rim length
     Vec3 longest_edge(0.0);
@@ -127,8 +126,12 @@ Vec3 chart_axis_u(const Chart& chart, const std::vector<Face>& faces) {
     if (groups.empty() || groups.size() >= kMaxGroups)
         return glm::normalize(longest_edge);  // a curved rim: its longest edge
     auto best = groups.begin();
-    for (auto g = groups.begin(); g != groups.end(); ++g)
-        if (g->second > best->second * (1 + 1e-9)) best = g;
+    for (auto g = groups.begin() + 1; g != groups.end(); ++g) {
+        const double tie = 1e-9 * std::max(g->second, best->second);
+        if (g->second > best->second + tie ||
+            (g->second >= best->second - tie && canonical_before(g->first, best->first)))
+            best = g;
+    }
     return best->first;
 }
 

@@ -11,8 +11,8 @@
 namespace vlf {
 
 // Fills chart.texels and chart.texel_area from its faces (normalised units). axis_u runs
-// along a single face's longest edge, or along the direction in which a chart's rim is
-// longest (texel_frame.cpp), projected into the chart's plane; axis_v = normal x axis_u; the
+// along the direction in which the chart's rim (a single face: its edges) is longest in
+// total, ties to the canonical direction (texel_frame.cpp), projected into its plane; axis_v = normal x axis_u; the
 // origin is the minimum corner of the chart's bounding rectangle in that frame, width/height
 // = ceil(extent / texel_size) (at least 1). When a side would exceed max_texels_per_side,
 // the texel size of this chart grows until it fits. A face tilted against the chart's

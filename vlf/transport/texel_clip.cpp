@@ -1,5 +1,7 @@
 #include "vlf/transport/texel_clip.hpp"
 
+#include "vlf/core/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -191,24 +193,23 @@ constexpr int kMaxFolds = 3;
 // edge (and inside the edges before it) is mirrored back across that edge and folded in
 // the same way. See clip_footprint_to_grid in the header for why.
 template <class P>
-void fold_to_grid(const P& piece, int depth, const std::vector<Vec2>& polygon, uint64_t inner,
-                  int width, int height, std::vector<TexelOverlap>& out) {
-    const int n = static_cast<int>(polygon.size());
+void fold_to_grid(const P& piece, int depth, const std::vector<RimLine>& rim, int width,
+                  int height, std::vector<TexelOverlap>& out) {
+    const int n = static_cast<int>(rim.size());
     P ia, ib, right, image;
     const P* inside = &piece;
     P* inside_out = &ia;
     P* inside_spare = &ib;
     for (int e = 0; e < n && inside->size() >= 3; ++e) {
-        if (e < 64 && (inner >> e & 1u)) continue;  // the chart goes on: no rim here
-        const Vec2& a = polygon[e];
-        const Vec2& b = polygon[(e + 1) % n];
+        const Vec2& a = rim[e].a;
+        const Vec2& b = rim[e].b;
         split_by_edge(*inside, a, b, *inside_out, right);
         inside = inside_out;
         std::swap(inside_out, inside_spare);
         if (depth >= kMaxFolds || right.size() < 3 || area(right) <= 0.0) continue;
         image.clear();
         for (int k = 0; k < right.size(); ++k) image.push(reflect(right[k], a, b - a));
-        fold_to_grid(image, depth + 1, polygon, inner, width, height, out);
+        fold_to_grid(image, depth + 1, rim, width, height, out);
     }
     if (inside->size() >= 3) slice_to_grid(*inside, width, height, out);
 }
@@ -223,16 +224,15 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
     return static_cast<int>(out.size() - before);
 }
 
-int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, uint64_t inner,
-                           int width, int height, std::vector<TexelOverlap>& out) {
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<RimLine>& rim, int width,
+                           int height, std::vector<TexelOverlap>& out) {
     const size_t before = out.size();
-    // Whole quad inside the polygon (the interior of a face): no polygon clipping.
+    // Whole quad inside the rim (the interior of a face): no clipping.
     bool whole = true;
-    const int n = static_cast<int>(polygon.size());
+    const int n = static_cast<int>(rim.size());
     for (int e = 0; e < n && whole; ++e) {
-        if (e < 64 && (inner >> e & 1u)) continue;
-        const Vec2& a = polygon[e];
-        const Vec2 d = polygon[(e + 1) % n] - a;
+        const Vec2& a = rim[e].a;
+        const Vec2 d = rim[e].b - a;
         for (int k = 0; k < 4; ++k)
             whole = whole && d.x * (quad[k].y - a.y) - d.y * (quad[k].x - a.x) >= 0;
     }
@@ -242,11 +242,11 @@ int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon,
     if (n <= kSmallEdges) {
         SmallPoly<4 + (kMaxFolds + 1) * kSmallEdges + 8> q;
         for (int k = 0; k < 4; ++k) q.push(quad[k]);
-        fold_to_grid(q, 0, polygon, inner, width, height, out);
+        fold_to_grid(q, 0, rim, width, height, out);
     } else {
         BigPoly q;
         for (int k = 0; k < 4; ++k) q.push(quad[k]);
-        fold_to_grid(q, 0, polygon, inner, width, height, out);
+        fold_to_grid(q, 0, rim, width, height, out);
     }
     // The same texel can be reached by the direct part and by mirrored parts: merge.
     for (size_t i = before; i < out.size(); ++i)
@@ -262,28 +262,109 @@ int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon,
     return static_cast<int>(out.size() - before);
 }
 
-FaceInTexels face_in_texels(const Face& face, const TexelFrame& chart) {
-    FaceInTexels out;
+std::vector<RimLine> polygon_rim(const std::vector<Vec2>& polygon) {
+    std::vector<RimLine> rim(polygon.size());
+    for (size_t e = 0; e < polygon.size(); ++e)
+        rim[e] = {polygon[e], polygon[(e + 1) % polygon.size()]};
+    return rim;
+}
+
+namespace {
+
+// A face's own rim: its edges not shared inside its chart, in its chart's texel
+// coordinates, counter-clockwise (reversed with the polygon if the winding turned).
+std::vector<RimLine> own_rim(const Face& face, const TexelFrame& grid) {
     const size_t n = face.vertices.size();
-    out.polygon.reserve(n);
-    for (const Vec3& v : face.vertices) out.polygon.push_back(chart.to_texel(v));
+    std::vector<Vec2> p;
+    p.reserve(n);
+    for (const Vec3& v : face.vertices) p.push_back(grid.to_texel(v));
     double twice_area = 0.0;
-    for (size_t k = 0; k < n; ++k) {
-        const Vec2& a = out.polygon[k];
-        const Vec2& b = out.polygon[(k + 1) % n];
-        twice_area += a.x * b.y - a.y * b.x;
+    for (size_t k = 0; k < n; ++k) twice_area += p[k].x * p[(k + 1) % n].y - p[k].y * p[(k + 1) % n].x;
+    std::vector<RimLine> rim;
+    for (size_t e = 0; e < n; ++e) {
+        if (e < 64 && (face.inner_edges >> e & 1u)) continue;
+        const Vec2 &a = p[e], &b = p[(e + 1) % n];
+        rim.push_back(twice_area < 0 ? RimLine{b, a} : RimLine{a, b});
     }
-    out.inner = face.inner_edges;
-    if (twice_area < 0) {
-        // Reversed, edge e (e -> e+1) becomes edge n-2-e (mod n): polygon_in_texels' order.
-        std::reverse(out.polygon.begin(), out.polygon.end());
-        out.inner = 0;
-        for (size_t e = 0; e < n && e < 64; ++e)
-            if (face.inner_edges >> e & 1u) {
-                const size_t r = (2 * n - 2 - e) % n;
-                if (r < 64) out.inner |= uint64_t(1) << r;
-            }
+    if (twice_area < 0) std::reverse(rim.begin(), rim.end());
+    return rim;
+}
+
+// The two lines are one (same direction, the same offset), to rounding.
+bool same_line(const RimLine& x, const RimLine& y) {
+    const Vec2 dx = x.b - x.a, dy = y.b - y.a;
+    const double lx = glm::length(dx), ly = glm::length(dy);
+    if (!(lx > 0) || !(ly > 0)) return false;
+    if (glm::dot(dx, dy) < (1 - 1e-9) * lx * ly) return false;
+    const Vec2 w = y.a - x.a;
+    return std::abs(dx.x * w.y - dx.y * w.x) <= 1e-9 * lx * std::max(1.0, glm::length(w));
+}
+
+// Squared distance between the axis-aligned boxes of two point sets.
+double box_gap(const Vec2& lo1, const Vec2& hi1, const Vec2& lo2, const Vec2& hi2) {
+    const double gx = std::max(0.0, std::max(lo1.x - hi2.x, lo2.x - hi1.x));
+    const double gy = std::max(0.0, std::max(lo1.y - hi2.y, lo2.y - hi1.y));
+    return std::hypot(gx, gy);
+}
+
+// Adds to each face of chart c the rim lines of the chart within `reach` of it. The rim
+// pieces are bucketed on a grid of cell `reach`, so a face looks only at its neighbourhood.
+void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
+                   std::vector<FaceInTexels>& out) {
+    const double reach = reach_normalised / c.texels.size;  // in texels
+    std::vector<RimLine> rim;
+    for (int f : c.faces) rim.insert(rim.end(), out[f].rim.begin(), out[f].rim.end());
+    if (rim.empty()) return;
+    const double cell = std::max(reach, 1e-9);
+    const int gw = std::max(1, int(std::ceil(c.texels.width / cell)) + 2);
+    const int gh = std::max(1, int(std::ceil(c.texels.height / cell)) + 2);
+    auto bucket = [&](double x, int size) {
+        return std::clamp(int(std::floor(x / cell)) + 1, 0, size - 1);
+    };
+    std::vector<std::vector<uint32_t>> grid(size_t(gw) * gh);
+    for (uint32_t r = 0; r < rim.size(); ++r) {
+        const Vec2 lo = glm::min(rim[r].a, rim[r].b), hi = glm::max(rim[r].a, rim[r].b);
+        for (int y = bucket(lo.y, gh); y <= bucket(hi.y, gh); ++y)
+            for (int x = bucket(lo.x, gw); x <= bucket(hi.x, gw); ++x)
+                grid[size_t(y) * gw + x].push_back(r);
     }
+    std::vector<uint32_t> seen;
+    for (int f : c.faces) {
+        Vec2 lo(1e300), hi(-1e300);
+        for (const Vec3& v : scene.faces[f].vertices) {
+            const Vec2 t = c.texels.to_texel(v);
+            lo = glm::min(lo, t);
+            hi = glm::max(hi, t);
+        }
+        seen.clear();
+        for (int y = bucket(lo.y - reach, gh); y <= bucket(hi.y + reach, gh); ++y)
+            for (int x = bucket(lo.x - reach, gw); x <= bucket(hi.x + reach, gw); ++x)
+                for (uint32_t r : grid[size_t(y) * gw + x]) seen.push_back(r);
+        std::sort(seen.begin(), seen.end());
+        seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+        std::vector<RimLine>& mine = out[f].rim;
+        for (uint32_t r : seen) {
+            const RimLine& line = rim[r];
+            const Vec2 llo = glm::min(line.a, line.b), lhi = glm::max(line.a, line.b);
+            if (box_gap(lo, hi, llo, lhi) > reach) continue;
+            if (std::none_of(mine.begin(), mine.end(),
+                             [&](const RimLine& m) { return same_line(m, line); }))
+                mine.push_back(line);
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<FaceInTexels> faces_in_texels(const Scene& scene, double reach) {
+    std::vector<FaceInTexels> out(scene.faces.size());
+    parallel_for(0, static_cast<long>(scene.faces.size()), [&](long f) {
+        out[f].rim = own_rim(scene.faces[f], scene.chart_of(scene.faces[f]).texels);
+    });
+    // The own rims are complete before any chart copies them.
+    parallel_for(0, static_cast<long>(scene.charts.size()), [&](long c) {
+        if (scene.charts[c].faces.size() > 1) add_chart_rim(scene, scene.charts[c], reach, out);
+    });
     return out;
 }
 
@@ -295,7 +376,7 @@ int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
     const Vec2 c = map(x, y);
     const Vec2 ax = map.dx * h, ay = map.dy * h;
     const Vec2 quad[4] = {c - ax - ay, c + ax - ay, c + ax + ay, c - ax + ay};
-    return clip_footprint_to_grid(quad, face.polygon, face.inner, width, height, out);
+    return clip_footprint_to_grid(quad, face.rim, width, height, out);
 }
 
 }  // namespace vlf

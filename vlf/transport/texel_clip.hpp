@@ -45,22 +45,29 @@ int clip_quad_to_grid(const Vec2 quad[4], int width, int height, std::vector<Tex
 // For a straight edge this is unbiased: averaged over the position of the ray grid, every
 // point of the face receives the same weight density (the footprint is centrally
 // symmetric, so the mirrored spill fills exactly the expected gap). The quad and the
-// convex polygon (counter-clockwise) are in texel coordinates. Edges in `inner` (bit e:
-// edge e, from vertex e to e+1) are shared with another face of the same chart: the beam
-// runs on over them into that face's part of the same grid, unclipped (docs/charts.md).
-int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<Vec2>& polygon, uint64_t inner,
-                           int width, int height, std::vector<TexelOverlap>& out);
-
-// A face's polygon in its chart's texel coordinates, counter-clockwise, and which of its
-// edges lie inside the chart (Face::inner_edges, renumbered if the winding turned).
-struct FaceInTexels {
-    std::vector<Vec2> polygon;
-    uint64_t inner = 0;
+// convex polygon (counter-clockwise) are in texel coordinates. In a chart of several faces
+// (docs/charts.md) the beam runs on over edges shared inside the chart into the
+// neighbour's part of the same grid: the lines it is clipped (and mirrored) at are the
+// chart's rim near the face, `rim`, each with the chart on its left.
+struct RimLine {
+    Vec2 a, b;
 };
-FaceInTexels face_in_texels(const Face& face, const TexelFrame& chart);
+int clip_footprint_to_grid(const Vec2 quad[4], const std::vector<RimLine>& rim, int width,
+                           int height, std::vector<TexelOverlap>& out);
+
+// The rim lines of a convex counter-clockwise polygon: its edges.
+std::vector<RimLine> polygon_rim(const std::vector<Vec2>& polygon);
+
+// A face's rim lines in its chart's texel coordinates: its own edges on the chart's rim,
+// then the other rim lines of its chart within `reach` (normalised units) of it (a beam's
+// footprint is at most that far from the face), collinear pieces once.
+struct FaceInTexels {
+    std::vector<RimLine> rim;
+};
+std::vector<FaceInTexels> faces_in_texels(const Scene& scene, double reach);
 
 // Overlaps of the beam of pixel (i, j) of an N x N PSF, clipped to the face's rim (in
-// texel coordinates, from face_in_texels), with its chart's texels.
+// texel coordinates, from faces_in_texels), with its chart's texels.
 int pixel_texel_overlaps(const PsfToTexel& map, int i, int j, int resolution,
                          const FaceInTexels& face, int width, int height,
                          std::vector<TexelOverlap>& out);
