@@ -347,6 +347,16 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
             const RimLine& line = rim[r];
             const Vec2 llo = glm::min(line.a, line.b), lhi = glm::max(line.a, line.b);
             if (box_gap(lo, hi, llo, lhi) > reach) continue;
+            // A line whose extension cuts the face (a bend of a curved rim, a concave
+            // corner) is no rim for it: the face lies inside every line it is clipped at.
+            const Vec2 d = line.b - line.a;
+            const double tol = 1e-9 * glm::length(d) * std::max(1.0, glm::length(hi - lo));
+            bool inside = true;
+            for (const Vec3& v : scene.faces[f].vertices) {
+                const Vec2 p = c.texels.to_texel(v) - line.a;
+                inside = inside && d.x * p.y - d.y * p.x >= -tol;
+            }
+            if (!inside) continue;
             if (std::none_of(mine.begin(), mine.end(),
                              [&](const RimLine& m) { return same_line(m, line); }))
                 mine.push_back(line);
