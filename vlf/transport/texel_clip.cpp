@@ -290,6 +290,10 @@ std::vector<RimLine> own_rim(const Face& face, const TexelFrame& grid) {
     return rim;
 }
 
+// A face in a chart takes at most this many of its chart's rim lines besides its own edges:
+// a straight rim is one line, a corner two; a curved rim's nearest few stand for it.
+constexpr size_t kMaxRimLines = 6;
+
 // The two lines are one (same direction, the same offset), to rounding.
 bool same_line(const RimLine& x, const RimLine& y) {
     const Vec2 dx = x.b - x.a, dy = y.b - y.a;
@@ -329,6 +333,7 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
                 grid[size_t(y) * gw + x].push_back(r);
     }
     std::vector<uint32_t> seen;
+    std::vector<std::pair<double, uint32_t>> near;
     for (int f : c.faces) {
         Vec2 lo(1e300), hi(-1e300);
         for (const Vec3& v : scene.faces[f].vertices) {
@@ -342,11 +347,13 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
                 for (uint32_t r : grid[size_t(y) * gw + x]) seen.push_back(r);
         std::sort(seen.begin(), seen.end());
         seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-        std::vector<RimLine>& mine = out[f].rim;
+        // The nearest lines first; a face is clipped at no more than kMaxRimLines of them.
+        near.clear();
         for (uint32_t r : seen) {
             const RimLine& line = rim[r];
-            const Vec2 llo = glm::min(line.a, line.b), lhi = glm::max(line.a, line.b);
-            if (box_gap(lo, hi, llo, lhi) > reach) continue;
+            const double gap =
+                box_gap(lo, hi, glm::min(line.a, line.b), glm::max(line.a, line.b));
+            if (gap > reach) continue;
             // A line whose extension cuts the face (a bend of a curved rim, a concave
             // corner) is no rim for it: the face lies inside every line it is clipped at.
             const Vec2 d = line.b - line.a;
@@ -356,10 +363,16 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
                 const Vec2 p = c.texels.to_texel(v) - line.a;
                 inside = inside && d.x * p.y - d.y * p.x >= -tol;
             }
-            if (!inside) continue;
+            if (inside) near.push_back({gap, r});
+        }
+        std::sort(near.begin(), near.end());
+        std::vector<RimLine>& mine = out[f].rim;
+        const size_t cap = mine.size() + kMaxRimLines;
+        for (const auto& [gap, r] : near) {
+            if (mine.size() >= cap) break;
             if (std::none_of(mine.begin(), mine.end(),
-                             [&](const RimLine& m) { return same_line(m, line); }))
-                mine.push_back(line);
+                             [&](const RimLine& m) { return same_line(m, rim[r]); }))
+                mine.push_back(rim[r]);
         }
     }
 }

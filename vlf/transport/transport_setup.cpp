@@ -118,9 +118,8 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_mean_reflectance = mean_reflectance(scene);
     m_deferred.assign(scene.charts.size(), 0);
     // A beam's footprint reaches about a pixel (2 / N, the PSF square's side over N) from
-    // its ray; three pixels of the exchange grid cover oblique beams and their mirrored
-    // spill (docs/charts.md).
-    m_polygons = faces_in_texels(scene, 3.0 * 2.0 / (params.field.resolution * params.supersample));
+    // its ray; two pixels of the exchange grid cover beams down to cos 0.35 (docs/charts.md).
+    m_polygons = faces_in_texels(scene, 2.0 * 2.0 / (params.field.resolution * params.supersample));
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
     m_work = std::make_unique<Workspace>();
