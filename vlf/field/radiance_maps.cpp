@@ -3,7 +3,7 @@
 namespace vlf {
 
 RadianceMaps::RadianceMaps(const Scene& scene, const std::vector<bool>& stored, int dirs,
-                           const std::vector<uint32_t>& coverage, bool unshot_maps)
+                           const Coverage& coverage, bool unshot_maps)
     : directions(dirs), with_unshot(unshot_maps) {
     const size_t nf = scene.faces.size();
     slot.assign(nf, -1);
@@ -17,7 +17,7 @@ RadianceMaps::RadianceMaps(const Scene& scene, const std::vector<bool>& stored, 
     for (int d = 0; d < dirs; ++d)
         for (size_t k = 0; k < faces.size(); ++k) {
             offset[size_t(d) * faces.size() + k] = at;
-            at += coverage[size_t(d) * nf + faces[k]];
+            at += coverage(d, faces[k]);
         }
     offset.back() = at;
     total.assign(at, RgbF(0.0f));

@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "vlf/field/coverage.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
@@ -25,9 +26,9 @@ struct RadianceMaps {
     std::vector<RgbF> unshot_next;  // L_U being written for the next cycle
     std::vector<RgbF> total;        // L_T
 
-    // coverage[d * face_count + f] = rays face f covers in PSF d.
+    // coverage(d, f) = rays face f covers in PSF d (measured for every stored face).
     RadianceMaps(const Scene& scene, const std::vector<bool>& stored, int directions,
-                 const std::vector<uint32_t>& coverage, bool with_unshot);
+                 const Coverage& coverage, bool with_unshot);
     RadianceMaps() = default;
 
     bool stores(int face) const { return face < static_cast<int>(slot.size()) && slot[face] >= 0; }

@@ -2,6 +2,7 @@
 // its PSF with the rays grouped by face (VLF §3), the exchange partner of every ray
 // (§4.1 exchange buffers) and the beam/texel overlaps (§4.2 continuous clipping); built
 // once per direction and kept across cycles within the memory budget.
+#include "vlf/core/error.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
 namespace vlf {
@@ -14,7 +15,8 @@ int64_t DirectionGeometry::bytes() const {
         b += static_cast<int64_t>(sizeof(Tile) + t.fragments.size() * sizeof(Fragment) +
                                   t.spans.size() * sizeof(Span));
     b += static_cast<int64_t>(
-        (tile_base.size() + face_begin.size() + ov_begin.size()) * sizeof(uint32_t) +
+        (tile_base.size() + faces.size() + face_begin.size() + ov_begin.size()) *
+            sizeof(uint32_t) +
         frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
         partner.size() * sizeof(int32_t) + psf.tile_of.size() * sizeof(int32_t));
     return b;
@@ -33,15 +35,26 @@ void rasterise_and_group(const Scene& scene, const Mat3& rot, int d, int N, int 
     g.tile_base[0] = 0;
     for (size_t ti = 0; ti < psf.tiles.size(); ++ti)
         g.tile_base[ti + 1] = g.tile_base[ti] + psf.tiles[ti].covered;
-    g.face_begin.assign(nf + 1, 0);
-    for (const Tile& t : psf.tiles)
-        for (const Fragment& f : t.fragments) ++g.face_begin[f.face + 1];
-    for (size_t f = 0; f < nf; ++f) g.face_begin[f + 1] += g.face_begin[f];
-    g.frags.resize(g.face_begin[nf]);
-    std::vector<uint32_t> cur(g.face_begin.begin(), g.face_begin.end() - 1);
+    // Fragments sorted by face (stable: tile order within a face); no per-face array of
+    // the whole scene, so a direction costs what its rays cost.
+    g.frags.clear();
     for (uint32_t ti = 0; ti < psf.tiles.size(); ++ti)
         for (uint32_t fi = 0; fi < psf.tiles[ti].fragments.size(); ++fi)
-            g.frags[cur[psf.tiles[ti].fragments[fi].face]++] = {ti, fi};
+            g.frags.push_back({ti, fi});
+    auto face_of = [&](const std::pair<uint32_t, uint32_t>& q) {
+        return uint32_t(psf.tiles[q.first].fragments[q.second].face);
+    };
+    std::stable_sort(g.frags.begin(), g.frags.end(),
+                     [&](const auto& a, const auto& b) { return face_of(a) < face_of(b); });
+    g.faces.clear();
+    g.face_begin.clear();
+    for (uint32_t q = 0; q < g.frags.size(); ++q)
+        if (q == 0 || face_of(g.frags[q]) != g.faces.back()) {
+            VLF_CHECK(face_of(g.frags[q]) < nf);
+            g.faces.push_back(face_of(g.frags[q]));
+            g.face_begin.push_back(q);
+        }
+    g.face_begin.push_back(static_cast<uint32_t>(g.frags.size()));
 }
 
 // VLF §4.1 exchange buffers: the partner of every ray, as a slot (or kEscaped, kBlocked,
@@ -72,9 +85,10 @@ void find_partners(const Scene& scene, double seal_gap, DirectionGeometry& g, Ti
 std::vector<uint8_t> rays_carrying_power(const DirectionGeometry& g, size_t faces,
                                          const uint8_t* sending) {
     std::vector<uint8_t> needed(g.slots(), 0);
-    for (size_t f = 0; f < faces; ++f) {
-        if (!sending[f]) continue;
-        for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    VLF_CHECK(g.faces.empty() || g.faces.back() < faces);
+    for (size_t k = 0; k < g.faces.size(); ++k) {
+        if (!sending[g.faces[k]]) continue;
+        for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                       [&](const Tile&, const Fragment& fr, uint32_t base) {
                           for (uint32_t k = 0; k < fr.covered; ++k) {
                               needed[base + k] = 1;

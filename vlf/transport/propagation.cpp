@@ -134,7 +134,7 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
     nlohmann::json memory = {
         {"texture_maps", static_cast<int64_t>(tex.texels() * 3 * sizeof(Rgb))},
         {"radiance_maps", t.specular_maps().bytes() + t.other_maps().bytes()},
-        {"coverage", static_cast<int64_t>(t.coverage().size() * sizeof(uint32_t))},
+        {"coverage", t.coverage().bytes()},
         {"geometry_cache", t.geometry_cache_bytes()},
         {"transport_total", t.memory_bytes()},
         {"peak_rss", peak_rss_bytes()}};

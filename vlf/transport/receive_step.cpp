@@ -23,7 +23,7 @@ Received gather_received(const PassContext& pc, const DirectionGeometry& g, size
                          const std::vector<Rgb>& in) {
     const int m = pc.m;
     Received r{Rgb(0.0), pc.N, -1, pc.N, -1};
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, g.frags_of(uint32_t(f)),
                   [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                       for (uint32_t k = 0; k < fr.covered; ++k) r.power += in[base + k];
                       r.imin = std::min(r.imin, tile.s * m);
@@ -39,7 +39,7 @@ Received gather_received(const PassContext& pc, const DirectionGeometry& g, size
 void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
                      const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
     const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, g.frags_of(uint32_t(f)),
                   [&](const Tile&, const Fragment& fr, uint32_t base) {
                       for (uint32_t k = 0; k < fr.covered; ++k) {
                           const Rgb p = in[base + k] * diffuse;
@@ -72,7 +72,7 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     src.power = r.power * specular;
     const int facing = (rot * face.normal).z > 0 ? 1 : -1;
     const Vec3 incoming = g.psf.omega * double(-facing);  // light travels towards the face
-    src.targets = specular_targets(pc.dirs, face, incoming, pc.coverage, pc.scene.faces.size(),
+    src.targets = specular_targets(pc.dirs, face, incoming, pc.coverage,
                                    src.target_direction, src.target_weight);
     if (src.targets == 0) {
         res.lost.grazing_mirror += src.power;  // no PSF can carry it
@@ -84,7 +84,7 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     src.height = r.jmax - r.jmin + 1;
     src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
     src.covered.assign(size_t(src.width) * src.height, 0);
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, g.frags_of(uint32_t(f)),
                   [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                       tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                           const size_t at = size_t(tile.t * pc.m + v - src.j0) * src.width +
@@ -123,8 +123,7 @@ void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res) {
 void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
                   ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
-    for (size_t f = 0; f < pc.scene.faces.size(); ++f) {
-        if (g.face_begin[f] == g.face_begin[f + 1]) continue;
+    for (const uint32_t f : g.faces) {
         const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
         const Received r = gather_received(pc, g, f, w.in);
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;

@@ -24,12 +24,12 @@ void lose_sliver_light(const PassContext& pc, int d, int f, NumericalLoss& lost)
 // Each ray of face f samples its chart's unshot exitance under its footprint (the weights
 // are unbiased at the rim, texel_clip.hpp), into out; sealed rays are left out. Returns
 // the sum of the samples, and in `rays` how many rays took one.
-Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t f,
+Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t k,
                     std::vector<Rgb>& out, uint32_t& rays) {
     const std::vector<Rgb>& exitance = pc.senders.exitance;
-    const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
+    const size_t tb = pc.tex.begin(pc.scene.faces[g.faces[k]].chart);
     Rgb sampled(0.0);
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                   [&](const Tile&, const Fragment& fr, uint32_t base) {
                       for (uint32_t k = 0; k < fr.covered; ++k) {
                           if (g.partner[base + k] == kSealed) continue;
@@ -55,34 +55,38 @@ Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t f,
 // still sends, through its neighbours' beams (docs/charts.md). Sampling exitance rather
 // than splitting each texel's power keeps a uniform field uniform at the rim
 // (docs/propagation.md §3).
+// `present` holds the chart's faces with rays here, as indices into g.faces.
 void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c,
-                  std::vector<Rgb>& out, NumericalLoss& lost) {
+                  const std::vector<uint32_t>& present, std::vector<Rgb>& out,
+                  NumericalLoss& lost) {
     const DirectionGeometry& g = pd.g;
-    // Only directions the chart has rays in are in its normaliser.
-    bool covered = false;
-    for (int f : c.faces) covered = covered || g.face_begin[f] != g.face_begin[f + 1];
-    if (!covered) return;
+    // Only directions the chart has rays in are in its normaliser (record_charts).
+    uint32_t covered = 0;
+    for (uint32_t k : present)
+        for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
+                      [&](const Tile&, const Fragment& fr, uint32_t) { covered += fr.covered; });
+    if (covered == 0) return;
     const double nz = projected_cosine(pc.scene, c, pc.rotations[pd.d]);
     const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[c.id];
     uint32_t rays = 0;
     Rgb sampled(0.0);
-    for (int f : c.faces) sampled += sample_exitance(pc, g, size_t(f), out, rays);
+    for (uint32_t k : present) sampled += sample_exitance(pc, g, k, out, rays);
     const Rgb target = pc.senders.unshot[c.id] * wd;
     Rgb scale(0.0), even(0.0);
-    for (int c = 0; c < 3; ++c) {
-        if (sampled[c] > 0.0)
-            scale[c] = target[c] / sampled[c];
+    for (int ch = 0; ch < 3; ++ch) {
+        if (sampled[ch] > 0.0)
+            scale[ch] = target[ch] / sampled[ch];
         else if (rays > 0)
-            even[c] = target[c] / rays;  // no ray sees the unshot texels
+            even[ch] = target[ch] / rays;  // no ray sees the unshot texels
         else
-            lost.sealed[c] += target[c];  // every ray is shut
+            lost.sealed[ch] += target[ch];  // every ray is shut
     }
-    for (int f : c.faces)
-        for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for (uint32_t k : present)
+        for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                       [&](const Tile&, const Fragment& fr, uint32_t base) {
-                          for (uint32_t k = 0; k < fr.covered; ++k)
-                              if (g.partner[base + k] != kSealed)
-                                  out[base + k] = out[base + k] * scale + even;
+                          for (uint32_t r = 0; r < fr.covered; ++r)
+                              if (g.partner[base + r] != kSealed)
+                                  out[base + r] = out[base + r] * scale + even;
                       });
 }
 
@@ -93,9 +97,9 @@ void store_rays(const PassContext& pc, const PassDirection& pd, size_t f, Radian
     const DirectionGeometry& g = pd.g;
     const double beam = pd.beam;
     const uint64_t mb = maps.begin(pd.d, int(f));
-    VLF_CHECK(maps.count(pd.d, int(f)) == pc.coverage[size_t(pd.d) * pc.scene.faces.size() + f]);
+    VLF_CHECK(maps.count(pd.d, int(f)) == pc.coverage(pd.d, int(f)));
     uint64_t kl = 0;
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, g.frags_of(uint32_t(f)),
                   [&](const Tile&, const Fragment& fr, uint32_t base) {
                       for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
                           Rgb& o = out[base + k];
@@ -150,7 +154,7 @@ Rgb unshot_scale(const PassContext& pc, const PassDirection& pd, size_t f, const
     const double beam_c = ray_area(pc.Nc) * pc.dirs.solid_angle(pd.d);
     Rgb unshot(0.0), reach(0.0);
     for (uint64_t k = 0; k < parents; ++k) unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, g.frags_of(uint32_t(f)),
                   [&](const Tile& tile, const Fragment& fr, uint32_t) {
                       tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
                           const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
@@ -183,7 +187,7 @@ void store_rays_supersampled(const PassContext& pc, const PassDirection& pd, siz
         with_unshot ? unshot_scale(pc, pd, f, maps, parent, w.coarse.covered, lost) : Rgb(0.0);
     w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
     w.parent_count.assign(w.coarse.covered, 0);
-    for_fragments(g, g.face_begin[f], g.face_begin[f + 1],
+    for_fragments(g, g.frags_of(uint32_t(f)),
                   [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                       tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
                           const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
@@ -206,25 +210,40 @@ void store_rays_supersampled(const PassContext& pc, const PassDirection& pd, siz
 // record L_T.
 void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
-    const size_t nf = pc.scene.faces.size();
     w.out.assign(g.slots(), Rgb(0.0));
-    for (const Chart& c : pc.scene.charts)
-        if (pc.senders.sends[c.id]) send_diffuse(pc, pd, c, w.out, res.lost);
-    for (size_t f = 0; f < nf; ++f) {
-        const bool spec_store = pc.true_directions && pc.spec.stores(int(f));
-        const bool other_store = pc.true_directions && pc.other.stores(int(f));
-        if (g.face_begin[f] == g.face_begin[f + 1]) {
-            if (spec_store && pc.coverage[size_t(pd.d) * nf + f] > 0)
-                lose_sliver_light(pc, pd.d, int(f), res.lost);
-            continue;
-        }
-        if (!spec_store && !other_store) continue;
-        RadianceMaps& maps = spec_store ? pc.spec : pc.other;
-        if (pc.s == 1)
-            store_rays(pc, pd, f, maps, spec_store, w.out);
-        else
-            store_rays_supersampled(pc, pd, f, maps, spec_store, w, res.lost);
+    // The sending charts' faces present here, grouped by chart (a direction holds a few
+    // thousand faces of a scene's million).
+    w.by_chart.clear();
+    for (uint32_t k = 0; k < g.faces.size(); ++k) {
+        const int c = pc.scene.faces[g.faces[k]].chart;
+        if (pc.senders.sends[c]) w.by_chart.push_back({uint32_t(c), k});
     }
+    std::sort(w.by_chart.begin(), w.by_chart.end());
+    for (size_t a = 0; a < w.by_chart.size();) {
+        size_t b = a;
+        w.present.clear();
+        while (b < w.by_chart.size() && w.by_chart[b].first == w.by_chart[a].first)
+            w.present.push_back(w.by_chart[b++].second);
+        send_diffuse(pc, pd, pc.scene.charts[w.by_chart[a].first], w.present, w.out, res.lost);
+        a = b;
+    }
+    if (!pc.true_directions) return;
+    // Stored faces only (the other faces keep no directional maps): the mirrors, then with
+    // --store-all-rays the rest, each in ascending order.
+    for (const RadianceMaps* stored : {&pc.spec, &pc.other})
+        for (const int f : stored->faces) {
+            const bool spec_store = stored == &pc.spec;
+            if (g.frags_of(uint32_t(f)).second == 0) {
+                if (spec_store && pc.coverage(pd.d, f) > 0)
+                    lose_sliver_light(pc, pd.d, f, res.lost);
+                continue;
+            }
+            RadianceMaps& maps = spec_store ? pc.spec : pc.other;
+            if (pc.s == 1)
+                store_rays(pc, pd, size_t(f), maps, spec_store, w.out);
+            else
+                store_rays_supersampled(pc, pd, size_t(f), maps, spec_store, w, res.lost);
+        }
 }
 
 // Which charts send diffuse power this pass, how much, and their unshot exitance: every

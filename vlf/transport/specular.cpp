@@ -10,7 +10,7 @@
 namespace vlf {
 
 int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
-                     const std::vector<uint32_t>& coverage, size_t face_count,
+                     const Coverage& coverage,
                      std::array<int, 3>& dir, std::array<double, 3>& weight) {
     const Vec3 n = f.normal;
     const Vec3 out = incoming_travel - 2.0 * glm::dot(incoming_travel, n) * n;  // mirror
@@ -22,7 +22,7 @@ int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incomi
         if (tri.weight[i] <= 0.0) continue;
         // The face must emit along sense * omega_d: its front must face that way.
         if (glm::dot(n, dirs.direction(d)) * tri.sense[i] <= 1e-12) continue;
-        if (coverage[size_t(d) * face_count + f.id] == 0) continue;
+        if (coverage(d, f.id) == 0) continue;
         bool merged = false;  // the same line can appear twice near the equator
         for (int j = 0; j < k; ++j)
             if (dir[j] == d) {

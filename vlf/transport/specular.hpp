@@ -41,9 +41,9 @@ struct SpecularSource {
 };
 
 // The reflected travel direction's enclosing PSF directions on which face `f` shows its
-// front and has rays (`coverage[d * faces + f]`), weights renormalised; returns how many.
+// front and has rays (`coverage(d, f)`), weights renormalised; returns how many.
 int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
-                     const std::vector<uint32_t>& coverage, size_t face_count,
+                     const Coverage& coverage,
                      std::array<int, 3>& dir, std::array<double, 3>& weight);
 
 // Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle

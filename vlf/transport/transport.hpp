@@ -30,6 +30,7 @@
 #include <memory>
 #include <vector>
 
+#include "vlf/field/coverage.hpp"
 #include "vlf/field/direction_set.hpp"
 #include "vlf/field/radiance_maps.hpp"
 #include "vlf/field/texture_maps.hpp"
@@ -41,14 +42,15 @@
 
 namespace vlf {
 
-// Rays each face covers in each PSF: coverage[d * faces + f].
-std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
-                                       int resolution, int tile);
-// Per chart: sum over the directions it has rays in of its projected_cosine * Delta_d
-// (VLF §4.4 eq. (3)).
+// Rays each face with `which[f]` covers in each PSF (coverage.hpp).
+Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations, int resolution,
+                          int tile, const std::vector<uint8_t>& which);
+// Per emitting chart (the others are 0 here and summed from the first cycle's geometry):
+// the sum over the directions it has rays in of its projected_cosine * Delta_d (VLF §4.4
+// eq. (3)).
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
                                      const std::vector<Mat3>& rotations,
-                                     const std::vector<uint32_t>& coverage);
+                                     const Coverage& coverage);
 
 struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
 struct SpecularSource;
@@ -93,7 +95,7 @@ class Transport {
     RadianceMaps& specular_maps() { return m_spec; }
     const RadianceMaps& other_maps() const { return m_other; }
     const std::vector<Mat3>& rotations() const { return m_rot; }
-    const std::vector<uint32_t>& coverage() const { return m_coverage; }
+    const Coverage& coverage() const { return m_coverage; }
     const TransportTimings& timings() const { return m_timings; }
     int64_t memory_bytes() const;
     int64_t geometry_cache_bytes() const;
@@ -110,7 +112,11 @@ class Transport {
     struct Pass {
         std::vector<Mat3> rotations;
         std::vector<double> send_norm;  // per chart: sum_d |n . omega_d| Delta_d, covered d
+        bool norms_known = false;  // every chart's, after the pass's first run
     };
+    // After a pass's first run: the send normalisers of the charts that do not emit, from
+    // the charts each direction's geometry held.
+    void finish_normalisers(Pass& pass, const std::vector<std::vector<uint32_t>>& chart_dirs);
     // Pass 0: the true directions; p >= 1: those of perturbation p (transport_setup.cpp).
     Pass make_pass(int p) const;
 
@@ -130,7 +136,7 @@ class Transport {
     PropagateParams m_params;
     DirectionSet m_dirs;
     std::vector<Mat3> m_rot;           // per direction (= m_passes[0].rotations)
-    std::vector<uint32_t> m_coverage;  // d * faces + f: covered rays on the N x N grid
+    Coverage m_coverage;               // stored faces and emitters, on the N x N grid
     std::vector<Pass> m_passes;        // the true directions, then each perturbation
     TextureMaps m_tex;
     RadianceMaps m_spec;                        // L_U, L_T of specular faces

@@ -6,6 +6,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -32,21 +33,32 @@ namespace vlf {
 // all cycles (the paper spent 80-85 % of its time re-clipping these every cycle).
 struct DirectionGeometry {
     Psf psf;
-    std::vector<uint32_t> tile_base;   // slots: tile_base[ti] + fragment.ray_offset + k
-    std::vector<uint32_t> face_begin;  // faces + 1, into frags
+    std::vector<uint32_t> tile_base;  // slots: tile_base[ti] + fragment.ray_offset + k
+    // The faces with rays in this direction, ascending (a PSF holds a few thousand rays,
+    // so of a million triangles only those few are here), and where each one's fragments
+    // begin in frags (one more entry at the end).
+    std::vector<uint32_t> faces;
+    std::vector<uint32_t> face_begin;
     std::vector<std::pair<uint32_t, uint32_t>> frags;  // (tile, fragment) grouped by face
     std::vector<uint32_t> ov_begin;                    // slots + 1, into ov
     std::vector<TexelOverlap> ov;
     std::vector<int32_t> partner;  // per slot: partner slot, kEscaped, kBlocked or kSealed
     uint32_t slots() const { return tile_base.back(); }
+    // The range of face f's fragments in frags (empty when it has no rays here).
+    std::pair<uint32_t, uint32_t> frags_of(uint32_t f) const {
+        const auto it = std::lower_bound(faces.begin(), faces.end(), f);
+        if (it == faces.end() || *it != f) return {0, 0};
+        const size_t k = size_t(it - faces.begin());
+        return {face_begin[k], face_begin[k + 1]};
+    }
     // Bytes of an exact-size copy (what the cache holds).
     int64_t bytes() const;
 };
 
 // Calls fn(tile, fragment, first slot) for the fragments [fb, fe) of a face, in tile order.
 template <class F>
-void for_fragments(const DirectionGeometry& g, uint32_t fb, uint32_t fe, F&& fn) {
-    for (uint32_t q = fb; q < fe; ++q) {
+void for_fragments(const DirectionGeometry& g, std::pair<uint32_t, uint32_t> range, F&& fn) {
+    for (uint32_t q = range.first; q < range.second; ++q) {
         const auto [ti, fi] = g.frags[q];
         const Tile& tile = g.psf.tiles[ti];
         const Fragment& fr = tile.fragments[fi];
@@ -83,6 +95,8 @@ struct Scratch {
     std::vector<int32_t> coarse_index;
     std::vector<Rgb> parent_sum;
     std::vector<int> parent_count;
+    std::vector<std::pair<uint32_t, uint32_t>> by_chart;  // (chart, index into faces)
+    std::vector<uint32_t> present;                        // one chart's part of by_chart
 };
 
 // What one chunk of directions adds to the pass; reduced in chunk order.
@@ -143,7 +157,10 @@ Senders find_senders(const Scene& scene, const TextureMaps& tex,
 struct PassContext {
     const Scene& scene;
     const DirectionSet& dirs;
-    const std::vector<uint32_t>& coverage;  // d * faces + f, on the N x N grid
+    const Coverage& coverage;  // stored faces and emitters, on the N x N grid
+    // The first run of a pass: per direction, the charts with rays in it (their send
+    // normalisers are summed from these after the pass); null once they are known.
+    std::vector<std::vector<uint32_t>>* chart_dirs;
     const TextureMaps& tex;
     RadianceMaps& spec;                    // L_U, L_T of specular faces
     RadianceMaps& other;                   // L_T of the other faces (--store-all-rays)

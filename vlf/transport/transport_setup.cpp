@@ -13,15 +13,24 @@ namespace vlf {
 
 using transport_detail::luminance;
 
-std::vector<uint32_t> measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations,
-                                       int N, int m) {
+Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations, int N, int m,
+                          const std::vector<uint8_t>& which) {
     const size_t nf = scene.faces.size();
-    std::vector<uint32_t> cov(rotations.size() * nf, 0);
+    Coverage cov;
+    cov.directions = static_cast<int>(rotations.size());
+    cov.row.assign(nf, -1);
+    std::vector<int> faces;
+    for (size_t f = 0; f < nf; ++f)
+        if (which[f]) {
+            cov.row[f] = cov.rows++;
+            faces.push_back(int(f));
+        }
+    cov.count.assign(rotations.size() * size_t(cov.rows), 0);
     parallel_for(0, static_cast<long>(rotations.size()), [&](long d) {
         FaceRaster fr;
-        for (size_t f = 0; f < nf; ++f) {
-            rasterise_face(scene.faces[f], rotations[d], N, m, fr);
-            cov[size_t(d) * nf + f] = fr.covered;
+        for (int k = 0; k < cov.rows; ++k) {
+            rasterise_face(scene.faces[faces[k]], rotations[d], N, m, fr);
+            cov.count[size_t(d) * cov.rows + k] = fr.covered;
         }
     });
     return cov;
@@ -38,21 +47,36 @@ double transport_detail::projected_cosine(const Scene& scene, const Chart& c,
 // Sum over the directions a chart has rays in of |n . omega_d| * Delta_d: the denominator
 // of the diffuse share (VLF §4.4 eq. (3), the "total projected unit area", corrected for
 // unequal solid angles — §5). Restricting it to covered directions makes the shares of
-// every chart sum to exactly 1.
+// every chart sum to exactly 1. Here for the emitting charts, which send in the first
+// cycle; the others' come from the first cycle's geometry (finish_normalisers).
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
                                      const std::vector<Mat3>& rotations,
-                                     const std::vector<uint32_t>& coverage) {
-    const size_t nf = scene.faces.size();
+                                     const Coverage& coverage) {
     std::vector<double> norm(scene.charts.size(), 0.0);
     parallel_for(0, static_cast<long>(scene.charts.size()), [&](long k) {
         const Chart& c = scene.charts[k];
+        if (!scene.material_of(c).is_emitter()) return;
         for (int d = 0; d < dirs.size(); ++d) {
             bool covered = false;
-            for (int f : c.faces) covered = covered || coverage[size_t(d) * nf + f] > 0;
-            if (covered) norm[k] += transport_detail::projected_cosine(scene, c, rotations[d]) * dirs.solid_angle(d);
+            for (int f : c.faces) covered = covered || coverage(d, f) > 0;
+            if (covered)
+                norm[k] += transport_detail::projected_cosine(scene, c, rotations[d]) *
+                           dirs.solid_angle(d);
         }
     });
     return norm;
+}
+
+void Transport::finish_normalisers(Pass& pass,
+                                   const std::vector<std::vector<uint32_t>>& chart_dirs) {
+    for (int d = 0; d < m_dirs.size(); ++d)
+        for (uint32_t c : chart_dirs[d]) {
+            const Chart& chart = m_scene.charts[c];
+            if (m_scene.material_of(chart).is_emitter()) continue;
+            pass.send_norm[c] += transport_detail::projected_cosine(m_scene, chart, pass.rotations[d]) *
+                                 m_dirs.solid_angle(d);
+        }
+    pass.norms_known = true;
 }
 
 namespace {
@@ -86,12 +110,15 @@ Transport::Pass Transport::make_pass(int p) const {
         pass.rotations.resize(l);
         for (int d = 0; d < l; ++d) pass.rotations[d] = rotation_to_z(r * m_dirs.direction(d));
     }
+    // The emitters' normalisers now (they send in the first cycle), on the pass's grid.
+    std::vector<uint8_t> emitters(m_scene.faces.size(), 0);
+    for (const Face& f : m_scene.faces) emitters[f.id] = m_scene.material_of(f).is_emitter();
     pass.send_norm = p == 0 && s == 1
                          ? send_normalisers(m_scene, m_dirs, m_rot, m_coverage)
                          : send_normalisers(m_scene, m_dirs, pass.rotations,
                                             measure_coverage(m_scene, pass.rotations,
                                                              m_params.field.resolution * s,
-                                                             m_params.field.tile * s));
+                                                             m_params.field.tile * s, emitters));
     return pass;
 }
 
@@ -102,7 +129,14 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     const int l = m_dirs.size();
     m_rot.resize(l);
     for (int d = 0; d < l; ++d) m_rot[d] = rotation_to_z(m_dirs.direction(d));
-    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile);
+    // Coverage is measured up front only where it is needed before the first cycle:
+    // stored faces (their map sizes) and emitters (they send in it).
+    std::vector<uint8_t> measured(scene.faces.size(), 0);
+    for (const Face& f : scene.faces) {
+        const Material& mat = scene.material_of(f);
+        measured[f.id] = mat.is_emitter() || mat.is_specular() || params.store_all_rays;
+    }
+    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile, measured);
     m_passes.resize(size_t(params.perturbations) + 1);
     for (int p = 0; p <= params.perturbations; ++p) m_passes[p] = make_pass(p);
     m_tex = TextureMaps(scene);
