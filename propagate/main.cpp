@@ -108,7 +108,7 @@ int run(Options o, const CLI::App& app) {
     };
     vlf::Propagation run = vlf::propagate(scene, p, run_opts);
     const vlf::Stopwatch write_time;
-    nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0);
+    nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0, !o.report.empty());
     // The light field goes from the radiance maps to the file one direction at a time.
     const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report, false);
     vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));

@@ -210,7 +210,9 @@ void expect_texels_cover_faces(const Scene& s, double texel_size_normalised, int
                 EXPECT_GE(x.y, -1e-9);
                 EXPECT_LE(x.x, t.width + 1e-9);
                 EXPECT_LE(x.y, t.height + 1e-9);
-                if (c.planar) EXPECT_NEAR(glm::length(t.to_plane(x) - v), 0, 1e-12);
+                if (c.planar) {
+                    EXPECT_NEAR(glm::length(t.to_plane(x) - v), 0, 1e-12);
+                }
             }
     }
     EXPECT_EQ(in_charts, s.faces.size());

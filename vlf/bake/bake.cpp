@@ -9,6 +9,7 @@
 
 #include "vlf/bake/atlas.hpp"
 #include "vlf/bake/bundle_parts.hpp"
+#include "vlf/bake/geometry_bin.hpp"
 #include "vlf/bake/lightfield_exr.hpp"
 #include "vlf/bake/lightmaps_exr.hpp"
 #include "vlf/bake/scene_json.hpp"
@@ -74,6 +75,8 @@ void write_parts(const fs::path& dir, const Bake& bake, const RaySource& rays, s
     json manifest = bake.manifest;
     step = kSceneFile;
     write_text((dir / kSceneFile).string(), scene_to_json(bake.scene).dump(1) + "\n");
+    step = kGeometryFile;
+    write_geometry((dir / kGeometryFile).string(), bake.scene);
 
     step = kLightmapsFile;
     const Atlas atlas = pack_atlas(bake.scene);
@@ -143,7 +146,18 @@ namespace {
 
 Scene read_scene_file(const BundleErrors& errors) {
     const std::string file = errors.file(kSceneFile);
-    return scene_from_json(read_json_file(file), file);
+    Scene s = scene_from_json(read_json_file(file), file);
+    read_geometry(errors.file(kGeometryFile), s);
+    for (size_t k = 0; k < s.objects.size(); ++k) {
+        const SceneObject& o = s.objects[k];
+        if (size_t(o.first_face) + size_t(o.face_count) > s.faces.size())
+            errors.fail(kSceneFile,
+                        fmt::format("objects[{}]: faces {} to {} are out of range (the geometry "
+                                    "has {})",
+                                    k, o.first_face, o.first_face + o.face_count - 1,
+                                    s.faces.size()));
+    }
+    return s;
 }
 
 // The parts after the manifest's checksums are verified; `step` names the part being read.

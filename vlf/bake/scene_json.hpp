@@ -1,7 +1,7 @@
 // scene_json.hpp — the bundle's scene.json (DESIGN §6; docs/bake-format.md): the scene
-// after loading and normalisation, self-contained (faces with their texel frames,
-// materials, objects, cameras, the normalisation), written and read back losslessly
-// (doubles in the shortest text that reads back to the same value).
+// after loading and normalisation except its faces and charts, which are in geometry.bin
+// (geometry_bin.hpp): materials, objects, cameras, the normalisation, written and read back
+// losslessly (doubles in the shortest text that reads back to the same value).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -139,8 +139,18 @@ void build_charts(Scene& scene, double texel_size, int max_texels_per_side,
             c.planar = c.planar && faces[f].normal == faces[c.faces[0]].normal;
         }
         c.normal = c.planar ? faces[c.faces[0]].normal : glm::normalize(sum);
+        finish_chart(c, faces);
         build_chart_texels(c, faces, texel_size, max_texels_per_side);
     });
+}
+
+void finish_chart(Chart& c, const std::vector<Face>& faces) {
+    c.area_normal = Vec3(0.0);
+    c.min_cos = 1.0;
+    for (int f : c.faces) {
+        c.area_normal += faces[f].area * faces[f].normal;
+        c.min_cos = std::min(c.min_cos, glm::dot(faces[f].normal, c.normal));
+    }
 }
 
 }  // namespace vlf

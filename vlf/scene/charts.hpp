@@ -22,4 +22,7 @@ inline constexpr double kChartAngleDeg = 30.0;
 void build_charts(Scene& scene, double texel_size, int max_texels_per_side,
                   double max_angle_deg = kChartAngleDeg);
 
+// Sets a chart's derived sums (Chart::area_normal, min_cos) from its faces.
+void finish_chart(Chart& chart, const std::vector<Face>& faces);
+
 }  // namespace vlf

@@ -79,6 +79,10 @@ struct Chart {
     // what lies sealed behind other faces (sealed_areas.hpp).
     std::vector<double> texel_area;
     bool planar = true;  // every face has the chart's normal (their texel areas are exact)
+    // Derived from the faces (charts.hpp finish_chart): the sum of area x normal, and the
+    // smallest cosine between a face's normal and `normal`.
+    Vec3 area_normal{0.0};
+    double min_cos = 1.0;
 };
 
 struct SceneObject {

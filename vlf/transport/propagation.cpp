@@ -111,7 +111,8 @@ void set_write_time(nlohmann::json& timings, const Propagation& run, double writ
 }
 
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
-                                  const Propagation& run, double write_seconds) {
+                                  const Propagation& run, double write_seconds,
+                                  bool surfaces) {
     const Transport& t = *run.transport;
     nlohmann::json ledger = nlohmann::json::array();
     for (const LedgerEntry& e : t.ledger()) ledger.push_back(to_json(e));
@@ -138,16 +139,17 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
         {"geometry_cache", t.geometry_cache_bytes()},
         {"transport_total", t.memory_bytes()},
         {"peak_rss", peak_rss_bytes()}};
-    return {{"parameters", to_json(params)},
-            {"scene", scene_summary(scene)},
-            {"ledger", ledger},
-            {"surfaces", surface_report(scene, tex)},
-            {"timings_s", timings},
-            {"memory_bytes", memory},
-            {"geometry_cache",
-             {{"budget_mib", params.cache_budget_mib},
-              {"directions_cached", t.cached_directions()},
-              {"directions", t.directions().size()}}}};
+    nlohmann::json report = {{"parameters", to_json(params)},
+                             {"scene", scene_summary(scene)},
+                             {"ledger", ledger},
+                             {"timings_s", timings},
+                             {"memory_bytes", memory},
+                             {"geometry_cache",
+                              {{"budget_mib", params.cache_budget_mib},
+                               {"directions_cached", t.cached_directions()},
+                               {"directions", t.directions().size()}}}};
+    if (surfaces) report["surfaces"] = surface_report(scene, tex);
+    return report;
 }
 
 }  // namespace vlf

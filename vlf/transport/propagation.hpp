@@ -35,8 +35,11 @@ bool settled(const LedgerEntry& e, double stop_unshot);
 // inside the face; area in user units.
 nlohmann::json surface_report(const Scene& scene, const TextureMaps& maps);
 
+// With `surfaces`, the per-face surface_report too (a million faces make it large: the
+// bake's manifest does not need it).
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
-                                  const Propagation& run, double write_seconds);
+                                  const Propagation& run, double write_seconds,
+                                  bool surfaces = true);
 // Sets "write", "total" and "other" (the wall time in no phase) of a report's timings_s.
 void set_write_time(nlohmann::json& timings, const Propagation& run, double write_seconds);
 

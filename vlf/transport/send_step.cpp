@@ -66,7 +66,11 @@ void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c
         for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                       [&](const Tile&, const Fragment& fr, uint32_t) { covered += fr.covered; });
     if (covered == 0) return;
-    const double nz = projected_cosine(pc.scene, c, pc.rotations[pd.d]);
+    const std::vector<ChartCosine>& here = pc.charts[pd.d];
+    const auto at = std::lower_bound(here.begin(), here.end(), uint32_t(c.id),
+                                     [](const ChartCosine& x, uint32_t id) { return x.chart < id; });
+    VLF_CHECK(at != here.end() && at->chart == uint32_t(c.id));
+    const double nz = at->cosine;
     const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[c.id];
     uint32_t rays = 0;
     Rgb sampled(0.0);

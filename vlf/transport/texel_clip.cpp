@@ -305,10 +305,10 @@ bool same_line(const RimLine& x, const RimLine& y) {
 }
 
 // Squared distance between the axis-aligned boxes of two point sets.
-double box_gap(const Vec2& lo1, const Vec2& hi1, const Vec2& lo2, const Vec2& hi2) {
+double box_gap2(const Vec2& lo1, const Vec2& hi1, const Vec2& lo2, const Vec2& hi2) {
     const double gx = std::max(0.0, std::max(lo1.x - hi2.x, lo2.x - hi1.x));
     const double gy = std::max(0.0, std::max(lo1.y - hi2.y, lo2.y - hi1.y));
-    return std::hypot(gx, gy);
+    return gx * gx + gy * gy;
 }
 
 // Adds to each face of chart c the rim lines of the chart within `reach` of it. The rim
@@ -334,12 +334,14 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
     }
     std::vector<uint32_t> seen;
     std::vector<std::pair<double, uint32_t>> near;
+    std::vector<Vec2> corners;
     for (int f : c.faces) {
         Vec2 lo(1e300), hi(-1e300);
+        corners.clear();
         for (const Vec3& v : scene.faces[f].vertices) {
-            const Vec2 t = c.texels.to_texel(v);
-            lo = glm::min(lo, t);
-            hi = glm::max(hi, t);
+            corners.push_back(c.texels.to_texel(v));
+            lo = glm::min(lo, corners.back());
+            hi = glm::max(hi, corners.back());
         }
         seen.clear();
         for (int y = bucket(lo.y - reach, gh); y <= bucket(hi.y + reach, gh); ++y)
@@ -352,15 +354,15 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
         for (uint32_t r : seen) {
             const RimLine& line = rim[r];
             const double gap =
-                box_gap(lo, hi, glm::min(line.a, line.b), glm::max(line.a, line.b));
-            if (gap > reach) continue;
+                box_gap2(lo, hi, glm::min(line.a, line.b), glm::max(line.a, line.b));
+            if (gap > reach * reach) continue;
             // A line whose extension cuts the face (a bend of a curved rim, a concave
             // corner) is no rim for it: the face lies inside every line it is clipped at.
             const Vec2 d = line.b - line.a;
             const double tol = 1e-9 * glm::length(d) * std::max(1.0, glm::length(hi - lo));
             bool inside = true;
-            for (const Vec3& v : scene.faces[f].vertices) {
-                const Vec2 p = c.texels.to_texel(v) - line.a;
+            for (const Vec2& corner : corners) {
+                const Vec2 p = corner - line.a;
                 inside = inside && d.x * p.y - d.y * p.x >= -tol;
             }
             if (inside) near.push_back({gap, r});
@@ -386,7 +388,11 @@ std::vector<FaceInTexels> faces_in_texels(const Scene& scene, double reach) {
     });
     // The own rims are complete before any chart copies them.
     parallel_for(0, static_cast<long>(scene.charts.size()), [&](long c) {
-        if (scene.charts[c].faces.size() > 1) add_chart_rim(scene, scene.charts[c], reach, out);
+        // A flat chart's rim is a few straight lines that every face near it shares; a
+        // curved chart's rim bends every edge, and its faces keep their own rim edges.
+        const Chart& chart = scene.charts[c];
+        if (chart.faces.size() > 1 && chart.min_cos >= 1.0 - 1e-9)
+            add_chart_rim(scene, chart, reach, out);
     });
     return out;
 }

@@ -18,24 +18,28 @@ using namespace transport_detail;
 namespace {
 
 // One direction of a pass: its geometry, then the steps of VLF §4.1 along its rays.
-// The charts with rays in a direction (a face with at least one covered ray), ascending.
-void record_charts(const Scene& scene, const DirectionGeometry& g, std::vector<uint32_t>& out) {
-    out.clear();
+// The charts with rays in a direction (a face with at least one covered ray), ascending,
+// with their projected cosines.
+void record_charts(const Scene& scene, const DirectionGeometry& g, const Mat3& rot,
+                   std::vector<ChartCosine>& out) {
+    std::vector<uint32_t> charts;
     for (size_t k = 0; k < g.faces.size(); ++k) {
         uint32_t covered = 0;
         for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                       [&](const Tile&, const Fragment& fr, uint32_t) { covered += fr.covered; });
-        if (covered > 0) out.push_back(uint32_t(scene.faces[g.faces[k]].chart));
+        if (covered > 0) charts.push_back(uint32_t(scene.faces[g.faces[k]].chart));
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    std::sort(charts.begin(), charts.end());
+    charts.erase(std::unique(charts.begin(), charts.end()), charts.end());
+    out.clear();
+    for (uint32_t c : charts) out.push_back({c, projected_cosine(scene, scene.charts[c], rot)});
 }
 
 void run_direction(const PassContext& pc, const GeometryInputs& in, const GeometryCache& cache,
                    int d, Scratch& w, ChunkResult& res) {
     // 1. The geometry: PSF, exchange partners, beam/texel overlaps (§3, §4.1, §4.2).
     const DirectionGeometry& g = direction_geometry(in, cache, pc.rotations[d], d, w, res.times);
-    if (pc.chart_dirs != nullptr) record_charts(pc.scene, g, (*pc.chart_dirs)[d]);
+    if (pc.record_charts) record_charts(pc.scene, g, pc.rotations[d], pc.charts[d]);
     const PassDirection pd{d, g, g.psf.ray_area() * pc.dirs.solid_angle(d)};
     const Stopwatch transfer;
     // 2. Senders load their rays (§4.4 eq. (3), §4.1 line 9).
@@ -106,7 +110,7 @@ void Transport::choose_deferred(bool last) {
 void Transport::run_pass(int pass, double share) {
     const Stopwatch pass_time;
     Pass& directions = m_passes[pass];
-    std::vector<std::vector<uint32_t>> chart_dirs(directions.norms_known ? 0 : directions.rotations.size());
+    if (!directions.norms_known) directions.charts.resize(directions.rotations.size());
     const int l = static_cast<int>(directions.rotations.size());
     const int s = m_params.supersample;
     const int Nc = m_params.field.resolution, mc = m_params.field.tile;  // radiance-map grid
@@ -114,7 +118,8 @@ void Transport::run_pass(int pass, double share) {
     const PassContext pc{.scene = m_scene,
                          .dirs = m_dirs,
                          .coverage = m_coverage,
-                         .chart_dirs = directions.norms_known ? nullptr : &chart_dirs,
+                         .charts = directions.charts,
+                         .record_charts = !directions.norms_known,
                          .tex = m_tex,
                          .spec = m_spec,
                          .other = m_other,
@@ -168,7 +173,7 @@ void Transport::run_pass(int pass, double share) {
     if (!sources.empty())
         m_running.lost.rounding += gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
     m_timings.specular += specular.seconds();
-    if (!directions.norms_known) finish_normalisers(directions, chart_dirs);
+    if (!directions.norms_known) finish_normalisers(directions);
 }
 
 // The reductions of a wave, in chunk order (DESIGN §5 Parallelism): P^N, the ledger, the

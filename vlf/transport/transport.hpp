@@ -53,6 +53,12 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
                                      const Coverage& coverage);
 
 struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
+
+// A chart with rays in a direction and its projected cosine there (VLF §4.4 eq. (3)).
+struct ChartCosine {
+    uint32_t chart;
+    double cosine;
+};
 struct SpecularSource;
 
 // Wall-clock seconds of each phase of the propagation (they add up to the transport's
@@ -113,10 +119,12 @@ class Transport {
         std::vector<Mat3> rotations;
         std::vector<double> send_norm;  // per chart: sum_d |n . omega_d| Delta_d, covered d
         bool norms_known = false;  // every chart's, after the pass's first run
+        // Per direction, from the pass's first run: its charts, ascending, with cosines.
+        std::vector<std::vector<ChartCosine>> charts;
     };
     // After a pass's first run: the send normalisers of the charts that do not emit, from
     // the charts each direction's geometry held.
-    void finish_normalisers(Pass& pass, const std::vector<std::vector<uint32_t>>& chart_dirs);
+    void finish_normalisers(Pass& pass);
     // Pass 0: the true directions; p >= 1: those of perturbation p (transport_setup.cpp).
     Pass make_pass(int p) const;
 

@@ -158,9 +158,10 @@ struct PassContext {
     const Scene& scene;
     const DirectionSet& dirs;
     const Coverage& coverage;  // stored faces and emitters, on the N x N grid
-    // The first run of a pass: per direction, the charts with rays in it (their send
-    // normalisers are summed from these after the pass); null once they are known.
-    std::vector<std::vector<uint32_t>>* chart_dirs;
+    // Per direction, the charts with rays in it and their projected cosines: recorded in
+    // the pass's first run (`record_charts`), read by the senders.
+    std::vector<std::vector<ChartCosine>>& charts;
+    bool record_charts;
     const TextureMaps& tex;
     RadianceMaps& spec;                    // L_U, L_T of specular faces
     RadianceMaps& other;                   // L_T of the other faces (--store-all-rays)

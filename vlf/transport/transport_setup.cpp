@@ -39,6 +39,12 @@ Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations
 double transport_detail::projected_cosine(const Scene& scene, const Chart& c,
                                           const Mat3& rotation) {
     if (c.faces.size() == 1) return std::abs((rotation * scene.faces[c.faces[0]].normal).z);
+    // Every face faces the same way when omega is further from the chart's plane than the
+    // faces are from its normal: then sum A |n . omega| = |sum A n . omega|.
+    const Vec3 omega(rotation[0][2], rotation[1][2], rotation[2][2]);  // (R n).z = n . omega
+    const double spread_sin = std::sqrt(std::max(0.0, 1.0 - c.min_cos * c.min_cos));
+    if (c.min_cos > 0 && std::abs(glm::dot(c.normal, omega)) > spread_sin + 1e-9)
+        return std::abs(glm::dot(c.area_normal, omega)) / c.area;
     double s = 0.0;
     for (int f : c.faces) s += scene.faces[f].area * std::abs((rotation * scene.faces[f].normal).z);
     return s / c.area;
@@ -67,15 +73,11 @@ std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dir
     return norm;
 }
 
-void Transport::finish_normalisers(Pass& pass,
-                                   const std::vector<std::vector<uint32_t>>& chart_dirs) {
+void Transport::finish_normalisers(Pass& pass) {
     for (int d = 0; d < m_dirs.size(); ++d)
-        for (uint32_t c : chart_dirs[d]) {
-            const Chart& chart = m_scene.charts[c];
-            if (m_scene.material_of(chart).is_emitter()) continue;
-            pass.send_norm[c] += transport_detail::projected_cosine(m_scene, chart, pass.rotations[d]) *
-                                 m_dirs.solid_angle(d);
-        }
+        for (const ChartCosine& cc : pass.charts[d])
+            if (!m_scene.material_of(m_scene.charts[cc.chart]).is_emitter())
+                pass.send_norm[cc.chart] += cc.cosine * m_dirs.solid_angle(d);
     pass.norms_known = true;
 }
 
