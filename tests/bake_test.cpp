@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include <string>
 
 #include "test_util.hpp"
+#include "vlf/bake/geometry_bin.hpp"
 #include "vlf/bake/scene_json.hpp"
 #include "vlf/core/checksum.hpp"
 #include "vlf/core/error.hpp"
@@ -130,29 +132,35 @@ void expect_same_vec(const Vec3& a, const Vec3& b) {
     EXPECT_EQ(a.z, b.z);
 }
 
-// A two-sided face and its reverse twin survive the round trip through scene.json: the
+// A two-sided face and its reverse twin survive the round trip through geometry.bin: the
 // walkthrough's ray caster shows, of the two, the side a ray meets, which it can only do
 // when it knows they are twins (without them one side of every two-sided face rendered
 // black from the bake). A one-way twin is refused.
-TEST(BakeSceneJson, KeepsTwoSidedTwins) {
-    const Scene a = load_scene(test::source_path("tests/scenes/contact-room.json"));
+TEST(BakeGeometry, KeepsTwoSidedTwins) {
+    Scene a = load_scene(test::source_path("tests/scenes/contact-room.json"));
     int twins = 0;
     for (const Face& f : a.faces) twins += f.twin >= 0;
     ASSERT_GT(twins, 0);
-    const Scene b = scene_from_json(scene_to_json(a), "scene.json");
+    const fs::path file = fs::temp_directory_path() / "vlf-bake-twins.bin";
+    write_geometry(file.string(), a);
+    Scene b = scene_from_json(scene_to_json(a), "scene.json");
+    read_geometry(file.string(), b);
     for (size_t f = 0; f < a.faces.size(); ++f) EXPECT_EQ(b.faces[f].twin, a.faces[f].twin);
-    nlohmann::json j = scene_to_json(a);
-    for (auto& f : j["faces"])
-        if (f.contains("twin")) {
-            f.erase("twin");
+    for (Face& f : a.faces)
+        if (f.twin >= 0) {
+            f.twin = -1;
             break;
         }
+    write_geometry(file.string(), a);
+    Scene c = scene_from_json(scene_to_json(a), "scene.json");
     try {
-        scene_from_json(j, "scene.json");
+        read_geometry(file.string(), c);
         ADD_FAILURE() << "a one-way twin was accepted";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("as its twin"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("does not name it back"), std::string::npos)
+            << e.what();
     }
+    fs::remove(file);
 }
 
 TEST(BakeMake, RaysMatchTheSpecularMaps) {
@@ -272,7 +280,7 @@ TEST_F(BakeBundle, RoundTrip) {
     EXPECT_EQ(b.manifest["format"], "vlf-bake");
     EXPECT_EQ(b.manifest["version"], kBakeVersion);
     EXPECT_EQ(b.manifest["units"], "m");
-    EXPECT_EQ(b.manifest["files"].size(), 3u);
+    EXPECT_EQ(b.manifest["files"].size(), 4u);
     ASSERT_EQ(b.directions.size(), 33);
     for (int d = 0; d < 33; ++d)
         expect_same_vec(b.directions.direction(d), a.directions.direction(d));
@@ -489,26 +497,62 @@ TEST_F(BakeBundle, SceneJsonWithAnUnknownKeyOrWrongType) {
     const nlohmann::json original = read_json("scene.json");
     auto write_scene = [&](const nlohmann::json& s) { write_scene_with_checksum(s); };
     nlohmann::json s = original;
-    s["charts"][2]["texels"]["colour"] = 1;
+    s["materials"][2]["colour"] = 1;
     write_scene(s);
-    expect_refused({m_bundle + "/scene.json: charts[2].texels.colour: unknown key"});
+    expect_refused({m_bundle + "/scene.json: materials[2].colour: unknown key"});
     s = original;
-    s["faces"][1]["material"] = 99;
-    write_scene(s);
-    expect_refused({m_bundle + "/scene.json: faces[1].material: must be in [0, 2] (got 99)"});
-    s = original;
-    s["faces"][3]["vertices"][1] = {0.5, "x", 0.5};
+    s["objects"][1]["face_count"] = "x";
     write_scene(s);
     expect_refused(
-        {m_bundle + "/scene.json: faces[3].vertices[1][1]: expected a number, got \"x\""});
+        {m_bundle + "/scene.json: objects[1].face_count: expected an integer, got \"x\""});
     s = original;
-    s["charts"][0]["texel_area"].erase(0);
+    s["objects"][1]["first_face"] = 1000000;
     write_scene(s);
-    expect_refused({m_bundle + "/scene.json: charts[0].texel_area: ", " entries for a "});
-    s = original;
-    s["faces"][1]["chart"] = 0;
-    write_scene(s);
-    expect_refused({m_bundle + "/scene.json: charts[", "names chart 0"});
+    expect_refused({m_bundle + ": scene.json: objects[1]: faces 1000000 to ", "out of range"});
+}
+
+// geometry.bin with a checksum that agrees: its size, counts, indices and links are checked.
+TEST_F(BakeBundle, GeometryBinDamageIsNamed) {
+    written();
+    const Scene& scene = fixture().bake.scene;
+    const size_t F = scene.faces.size();
+    const std::string original = [&] {
+        std::ifstream in(file("geometry.bin"), std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    }();
+    auto write_geometry_bytes = [&](const std::string& bytes) {
+        {
+            std::ofstream out(file("geometry.bin"), std::ios::binary | std::ios::trunc);
+            out << bytes;
+        }
+        nlohmann::json m = read_json("manifest.json");
+        uint64_t n = 0;
+        m["files"]["geometry.bin"]["sha256"] = sha256_file(file("geometry.bin").string(), n);
+        m["files"]["geometry.bin"]["bytes"] = n;
+        write_json("manifest.json", m);
+    };
+    auto put_i32 = [](std::string& b, size_t at, int32_t v) { std::memcpy(&b[at], &v, 4); };
+    const std::string where = m_bundle + "/geometry.bin: ";
+    std::string b = original.substr(0, original.size() - 8);
+    write_geometry_bytes(b);
+    expect_refused({where, "(truncated)"});
+    b = original;
+    b[3] = 'X';
+    write_geometry_bytes(b);
+    expect_refused({where + "not a VLF geometry file (bad magic)"});
+    b = original;
+    put_i32(b, 40 + 4 * F + 4 * 1, 99);  // face 1's material
+    write_geometry_bytes(b);
+    expect_refused({where + "face material of 1 is 99 (must be in [0, 2])"});
+    b = original;
+    put_i32(b, 40 + 12 * F + 4 * 2, int32_t(scene.charts.size()));  // face 2's chart
+    write_geometry_bytes(b);
+    expect_refused({where + "face chart of 2 is ", "(must be in [0, "});
+    b = original;
+    ASSERT_NE(scene.faces[0].chart, scene.faces[1].chart);
+    put_i32(b, 40 + 12 * F + 4 * 1, scene.faces[0].chart);  // face 1 claims face 0's chart
+    write_geometry_bytes(b);
+    expect_refused({where, "names chart"});
 }
 
 TEST_F(BakeBundle, DamageBehindAForgedChecksumNeverCrashes) {

@@ -43,11 +43,11 @@ void write_floor_obj(const fs::path& file, int nx, int nz, uint64_t seed) {
                       p01 = id(i, j + 1);
             // Counter-clockwise seen from +y: p00, p01, p11, p10.
             if (coin(rng))
-                out << "f " << p00 << " " << p01 << " " << p11 << "\nf " << p00 << " " << p11
-                    << " " << p10 << "\n";
+                out << "f " << p00 << " " << p01 << " " << p11 << "\nf " << p00 << " " << p11 << " "
+                    << p10 << "\n";
             else
-                out << "f " << p00 << " " << p01 << " " << p10 << "\nf " << p01 << " " << p11
-                    << " " << p10 << "\n";
+                out << "f " << p00 << " " << p01 << " " << p10 << "\nf " << p01 << " " << p11 << " "
+                    << p10 << "\n";
         }
 }
 
@@ -132,7 +132,9 @@ TEST(Charts, TriangulationDoesNotChangeTheTexels) {
         const double ra = ma.radiance(ca, k).x, rb = mb.radiance(cb, k).x;
         ASSERT_GT(ra, 0.0);
         worst = std::max(worst, std::abs(rb / ra - 1.0));
-        if (std::abs(rb / ra - 1.0) > 0.003) std::printf("DBG texel %zu (%zu,%zu) %.4f\n", k, k % ca.texels.width, k / ca.texels.width, rb / ra - 1.0);
+        if (std::abs(rb / ra - 1.0) > 0.003)
+            std::printf("DBG texel %zu (%zu,%zu) %.4f\n", k, k % ca.texels.width,
+                        k / ca.texels.width, rb / ra - 1.0);
         ++compared;
     }
     EXPECT_EQ(compared, 300);
@@ -152,8 +154,8 @@ TEST(Charts, TriangulationDoesNotChangeTheTexels) {
         const double mean = p.x / (kPi * ch.area);
         Vec3 centroid(0.0);
         for (const Vec3& v : c.faces[f].vertices) centroid += v / 3.0;
-        const Vec2 uv = ca.texels.to_texel(a.normalisation.to_normalised(
-            c.normalisation.to_user(centroid)));
+        const Vec2 uv =
+            ca.texels.to_texel(a.normalisation.to_normalised(c.normalisation.to_user(centroid)));
         const size_t k = size_t(std::floor(uv.y)) * ca.texels.width + size_t(std::floor(uv.x));
         scatter = std::max(scatter, std::abs(mean / ma.radiance(ca, k).x - 1.0));
     }

@@ -95,10 +95,10 @@ TEST(Resample, MirrorRaysSeeTheReflectedDiffuseSurface) {
                 found = rc.intersect(h.point + 1e-6 * back, back, 0.0, 1e30, h);
             Rgb want(0.0);
             if (found && glm::dot(s.faces[h.face].normal, back) < 0.0)
-                want =
-                    rho_s * sample_lightmap(s.chart_of(s.faces[h.face]),
-                                            rad.data() + t.texture_maps().begin(s.faces[h.face].chart),
-                                            h.point);
+                want = rho_s *
+                       sample_lightmap(s.chart_of(s.faces[h.face]),
+                                       rad.data() + t.texture_maps().begin(s.faces[h.face].chart),
+                                       h.point);
             const Rgb got(maps.total[base + k]);
             for (int c = 0; c < 3; ++c)
                 ASSERT_NEAR(got[c], want[c], 1e-5 * std::abs(want[c]) + 1e-12)
@@ -168,7 +168,8 @@ TEST(Resample, MirrorsSeenInMirrorsAndMixedMaterials) {
             const Vec3 out = double(facing) * t.directions().direction(d);
             const Vec3 back = -glm::reflect(out, face.normal);
             for (uint64_t k = 0; k < n; k += 7) {
-                Rgb want = mat.is_diffuse() ? sample_lightmap(s.chart_of(face), rad.data() + off[face.chart], pts[k])
+                Rgb want = mat.is_diffuse() ? sample_lightmap(s.chart_of(face),
+                                                              rad.data() + off[face.chart], pts[k])
                                             : Rgb(0.0);
                 RayHit h;
                 if (rc.intersect(pts[k] + 1e-6 * back, back, 0.0, 1e30, h) && h.face != f &&

@@ -1,7 +1,6 @@
 // scene_loader_test.cpp — JSON scenes to vlf::Scene (vlf/scene/scene_loader.hpp): the shipped
 // scenes, normalisation, texel frames, mesh import, transforms and every class of bad input.
 #include "vlf/scene/scene_loader.hpp"
-#include "vlf/scene/texel_frame.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,6 +15,7 @@
 #include "vlf/core/error.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene.hpp"
+#include "vlf/scene/texel_frame.hpp"
 
 namespace vlf {
 namespace {

@@ -151,11 +151,11 @@ Scene read_scene_file(const BundleErrors& errors) {
     for (size_t k = 0; k < s.objects.size(); ++k) {
         const SceneObject& o = s.objects[k];
         if (size_t(o.first_face) + size_t(o.face_count) > s.faces.size())
-            errors.fail(kSceneFile,
-                        fmt::format("objects[{}]: faces {} to {} are out of range (the geometry "
-                                    "has {})",
-                                    k, o.first_face, o.first_face + o.face_count - 1,
-                                    s.faces.size()));
+            errors.fail(
+                kSceneFile,
+                fmt::format("objects[{}]: faces {} to {} are out of range (the geometry "
+                            "has {})",
+                            k, o.first_face, o.first_face + o.face_count - 1, s.faces.size()));
     }
     return s;
 }

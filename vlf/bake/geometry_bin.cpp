@@ -169,7 +169,8 @@ void read_faces(Reader& r, Scene& s, size_t F, size_t C, uint64_t V) {
         f.inner_edges = r.get<uint64_t>("face inner edges");
         const size_t n = vb[f.id + 1] - vb[f.id];
         if (n < 64 && (f.inner_edges >> n) != 0)
-            r.fail(fmt::format("face inner edges of {} name an edge past its {} vertices", f.id, n));
+            r.fail(
+                fmt::format("face inner edges of {} name an edge past its {} vertices", f.id, n));
     }
     for (Face& f : s.faces) f.normal = r.vec("face normal", f.id);
     for (Face& f : s.faces) f.plane_offset = r.finite("face plane offset", f.id);
@@ -208,13 +209,15 @@ void read_charts(Reader& r, Scene& s, size_t C, uint64_t T) {
     for (Chart& c : s.charts) c.texels.axis_v = r.vec("chart texel axis_v", c.id);
     for (Chart& c : s.charts) {
         c.texels.size = r.finite("chart texel size", c.id);
-        if (!(c.texels.size > 0)) r.fail(fmt::format("chart texel size of {} is not positive", c.id));
+        if (!(c.texels.size > 0))
+            r.fail(fmt::format("chart texel size of {} is not positive", c.id));
     }
     for (Chart& c : s.charts) c.texels.width = r.index("chart width", c.id, 1, kMaxTexelsPerSide);
     for (Chart& c : s.charts) c.texels.height = r.index("chart height", c.id, 1, kMaxTexelsPerSide);
     uint64_t texels = 0;
     for (const Chart& c : s.charts) texels += uint64_t(c.texels.width) * uint64_t(c.texels.height);
-    if (texels != T) r.fail(fmt::format("the charts' grids hold {} texels, the header says {}", texels, T));
+    if (texels != T)
+        r.fail(fmt::format("the charts' grids hold {} texels, the header says {}", texels, T));
     for (Chart& c : s.charts) {
         c.texel_area.resize(size_t(c.texels.width) * c.texels.height);
         for (double& a : c.texel_area) {
@@ -263,8 +266,7 @@ void read_geometry(const std::string& file, Scene& scene) {
     const uint64_t expect = file_bytes(F, C, V, T);
     if (expect != r.size())
         r.fail(fmt::format("{} bytes, {} faces, {} charts, {} vertices and {} texels take {}{}",
-                           r.size(), F, C, V, T, expect,
-                           r.size() < expect ? " (truncated)" : ""));
+                           r.size(), F, C, V, T, expect, r.size() < expect ? " (truncated)" : ""));
     read_faces(r, scene, size_t(F), size_t(C), V);
     read_charts(r, scene, size_t(C), T);
     r.expect_end();

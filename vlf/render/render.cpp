@@ -76,7 +76,8 @@ struct Renderer::Impl {
 
     // P^T of face f at x, bilinear on its chart's grid (VLF §6.2/§6.3).
     Rgb lightmap(const Face& f, const Vec3& x) const {
-        return sample_lightmap(scene.chart_of(f), bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
+        return sample_lightmap(scene.chart_of(f),
+                               bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
     }
 
     // Diffuse contribution of a face: P^T where it reflects diffusely or emits (P^T

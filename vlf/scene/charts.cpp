@@ -87,16 +87,14 @@ std::vector<int> find_neighbours(const std::vector<Face>& faces, const std::vect
 
 }  // namespace
 
-void build_charts(Scene& scene, double texel_size, int max_texels_per_side,
-                  double max_angle_deg) {
+void build_charts(Scene& scene, double texel_size, int max_texels_per_side, double max_angle_deg) {
     std::vector<Face>& faces = scene.faces;
     const size_t nf = faces.size();
     std::vector<size_t> offset(nf + 1, 0);
     for (size_t f = 0; f < nf; ++f) offset[f + 1] = offset[f] + faces[f].vertices.size();
     const double cos_max = std::cos(max_angle_deg * kPi / 180.0);
-    const std::vector<int> neighbour = max_angle_deg > 0
-                                           ? find_neighbours(faces, offset, cos_max)
-                                           : std::vector<int>(offset.back(), -1);
+    const std::vector<int> neighbour = max_angle_deg > 0 ? find_neighbours(faces, offset, cos_max)
+                                                         : std::vector<int>(offset.back(), -1);
 
     scene.charts.clear();
     for (Face& f : faces) f.chart = -1, f.inner_edges = 0;

@@ -56,9 +56,9 @@
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/json_reader.hpp"
+#include "vlf/scene/charts.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/primitives.hpp"
-#include "vlf/scene/charts.hpp"
 #include "vlf/scene/sealed_areas.hpp"
 
 namespace vlf {

@@ -31,9 +31,8 @@ void subtract_sealed_areas(Scene& scene, double gap) {
                 const double d = g.plane_offset - f.plane_offset;
                 if (d > gap) break;
                 if (d <= 0.0) continue;  // coplanar: not in front
-                const std::vector<Vec2> covered =
-                    intersect_convex(polygon_in_texels(tf, g.vertices),
-                                     polygon_in_texels(tf, f.vertices));
+                const std::vector<Vec2> covered = intersect_convex(
+                    polygon_in_texels(tf, g.vertices), polygon_in_texels(tf, f.vertices));
                 if (covered.empty()) continue;
                 double lo_u = covered[0].x, hi_u = lo_u, lo_v = covered[0].y, hi_v = lo_v;
                 for (const Vec2& p : covered) {

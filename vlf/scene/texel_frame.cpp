@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <limits>
+#include <utility>
 
 #include "vlf/core/error.hpp"
 
@@ -114,9 +114,8 @@ Vec3 chart_axis_u(const Chart& chart, const std::vector<Face>& faces) {
             if (!(l > 0)) continue;
             if (l > longest) longest = l, longest_edge = d;
             const Vec3 u = d / l;
-            auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& x) {
-                return glm::dot(x.first, u) > 1.0 - 1e-9;
-            });
+            auto g = std::find_if(groups.begin(), groups.end(),
+                                  [&](const auto& x) { return glm::dot(x.first, u) > 1.0 - 1e-9; });
             if (g != groups.end())
                 g->second += l;
             else if (groups.size() < kMaxGroups)

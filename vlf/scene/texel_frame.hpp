@@ -1,5 +1,5 @@
-// texel_frame.hpp — the texel grid of a chart (charts.hpp) (VLF §4.4: the diffuse texture maps P^C, P^N,
-// P^T live on it) and the exact area of every texel square ∩ the chart's faces, which the
+// texel_frame.hpp — the texel grid of a chart (charts.hpp) (VLF §4.4: the diffuse texture maps P^C,
+// P^N, P^T live on it) and the exact area of every texel square ∩ the chart's faces, which the
 // diffuse sender and receiver use as their overlap weights (DESIGN §5).
 #pragma once
 
@@ -12,11 +12,11 @@ namespace vlf {
 
 // Fills chart.texels and chart.texel_area from its faces (normalised units). axis_u runs
 // along the direction in which the chart's rim (a single face: its edges) is longest in
-// total, ties to the canonical direction (texel_frame.cpp), projected into its plane; axis_v = normal x axis_u; the
-// origin is the minimum corner of the chart's bounding rectangle in that frame, width/height
-// = ceil(extent / texel_size) (at least 1). When a side would exceed max_texels_per_side,
-// the texel size of this chart grows until it fits. A face tilted against the chart's
-// plane counts its projected area times projected_area_scale.
+// total, ties to the canonical direction (texel_frame.cpp), projected into its plane; axis_v =
+// normal x axis_u; the origin is the minimum corner of the chart's bounding rectangle in that
+// frame, width/height = ceil(extent / texel_size) (at least 1). When a side would exceed
+// max_texels_per_side, the texel size of this chart grows until it fits. A face tilted against the
+// chart's plane counts its projected area times projected_area_scale.
 void build_chart_texels(Chart& chart, const std::vector<Face>& faces, double texel_size,
                         int max_texels_per_side);
 

@@ -15,8 +15,7 @@ int64_t DirectionGeometry::bytes() const {
         b += static_cast<int64_t>(sizeof(Tile) + t.fragments.size() * sizeof(Fragment) +
                                   t.spans.size() * sizeof(Span));
     b += static_cast<int64_t>(
-        (tile_base.size() + faces.size() + face_begin.size() + ov_begin.size()) *
-            sizeof(uint32_t) +
+        (tile_base.size() + faces.size() + face_begin.size() + ov_begin.size()) * sizeof(uint32_t) +
         frags.size() * sizeof(frags[0]) + ov.size() * sizeof(TexelOverlap) +
         partner.size() * sizeof(int32_t) + psf.tile_of.size() * sizeof(int32_t));
     return b;

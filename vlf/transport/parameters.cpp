@@ -80,11 +80,12 @@ nlohmann::json to_json(const PropagateParams& p) {
 }
 
 PropagateParams propagate_params_from_json(const JsonReader& r) {
-    r.only_keys({"directions",    "resolution",     "tile",         "tiles_per_side",
-                 "scheme",        "quality",        "texel_size",   "texel_divisions", "chart_angle_deg",
-                 "cycles",        "stop_unshot",    "threads",      "deferred",
-                 "perturbations", "perturb_cycles", "filter_sigma", "supersample",
-                 "resample",      "store_all_rays", "seed",         "cache_budget_mib"});
+    r.only_keys({"directions",      "resolution",    "tile",           "tiles_per_side",
+                 "scheme",          "quality",       "texel_size",     "texel_divisions",
+                 "chart_angle_deg", "cycles",        "stop_unshot",    "threads",
+                 "deferred",        "perturbations", "perturb_cycles", "filter_sigma",
+                 "supersample",     "resample",      "store_all_rays", "seed",
+                 "cache_budget_mib"});
     PropagateParams p;
     p.field.directions = r.required("directions").integer();
     p.field.resolution = r.required("resolution").integer();

@@ -19,8 +19,8 @@ struct PropagateParams {
     // Faces share a chart's texels while their normals lie within this angle of its first
     // face's (charts.hpp; 0: a chart per face).
     double chart_angle_deg = 30.0;
-    int cycles = 4;            // propagation cycles (cycle 1 carries the emission); with
-                               // stop_unshot > 0, the most cycles to run
+    int cycles = 4;  // propagation cycles (cycle 1 carries the emission); with
+                     // stop_unshot > 0, the most cycles to run
     // Stop after the cycle that leaves less than this fraction of the emitted power still
     // to shoot (unshot + deferred), per channel; 0: run all `cycles`.
     double stop_unshot = 0.0;

@@ -111,8 +111,7 @@ void set_write_time(nlohmann::json& timings, const Propagation& run, double writ
 }
 
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
-                                  const Propagation& run, double write_seconds,
-                                  bool surfaces) {
+                                  const Propagation& run, double write_seconds, bool surfaces) {
     const Transport& t = *run.transport;
     nlohmann::json ledger = nlohmann::json::array();
     for (const LedgerEntry& e : t.ledger()) ledger.push_back(to_json(e));
@@ -132,13 +131,12 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
                                 {"transfer", tm.transfer}}}};
     set_write_time(timings, run, write_seconds);
     const auto& tex = t.texture_maps();
-    nlohmann::json memory = {
-        {"texture_maps", static_cast<int64_t>(tex.texels() * 3 * sizeof(Rgb))},
-        {"radiance_maps", t.specular_maps().bytes() + t.other_maps().bytes()},
-        {"coverage", t.coverage().bytes()},
-        {"geometry_cache", t.geometry_cache_bytes()},
-        {"transport_total", t.memory_bytes()},
-        {"peak_rss", peak_rss_bytes()}};
+    nlohmann::json memory = {{"texture_maps", static_cast<int64_t>(tex.texels() * 3 * sizeof(Rgb))},
+                             {"radiance_maps", t.specular_maps().bytes() + t.other_maps().bytes()},
+                             {"coverage", t.coverage().bytes()},
+                             {"geometry_cache", t.geometry_cache_bytes()},
+                             {"transport_total", t.memory_bytes()},
+                             {"peak_rss", peak_rss_bytes()}};
     nlohmann::json report = {{"parameters", to_json(params)},
                              {"scene", scene_summary(scene)},
                              {"ledger", ledger},

@@ -39,22 +39,21 @@ Received gather_received(const PassContext& pc, const DirectionGeometry& g, size
 void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
                      const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
     const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
-    for_fragments(g, g.frags_of(uint32_t(f)),
-                  [&](const Tile&, const Fragment& fr, uint32_t base) {
-                      for (uint32_t k = 0; k < fr.covered; ++k) {
-                          const Rgb p = in[base + k] * diffuse;
-                          if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
-                          const uint32_t ob = g.ov_begin[base + k], oe = g.ov_begin[base + k + 1];
-                          double rowsum = 0.0;
-                          for (uint32_t o = ob; o < oe; ++o) rowsum += g.ov[o].area;
-                          if (rowsum <= 0.0) {
-                              res.lost.empty_footprint += p;
-                              continue;
-                          }
-                          for (uint32_t o = ob; o < oe; ++o)
-                              res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
-                      }
-                  });
+    for_fragments(g, g.frags_of(uint32_t(f)), [&](const Tile&, const Fragment& fr, uint32_t base) {
+        for (uint32_t k = 0; k < fr.covered; ++k) {
+            const Rgb p = in[base + k] * diffuse;
+            if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
+            const uint32_t ob = g.ov_begin[base + k], oe = g.ov_begin[base + k + 1];
+            double rowsum = 0.0;
+            for (uint32_t o = ob; o < oe; ++o) rowsum += g.ov[o].area;
+            if (rowsum <= 0.0) {
+                res.lost.empty_footprint += p;
+                continue;
+            }
+            for (uint32_t o = ob; o < oe; ++o)
+                res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
+        }
+    });
 }
 
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
@@ -72,8 +71,8 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     src.power = r.power * specular;
     const int facing = (rot * face.normal).z > 0 ? 1 : -1;
     const Vec3 incoming = g.psf.omega * double(-facing);  // light travels towards the face
-    src.targets = specular_targets(pc.dirs, face, incoming, pc.coverage,
-                                   src.target_direction, src.target_weight);
+    src.targets = specular_targets(pc.dirs, face, incoming, pc.coverage, src.target_direction,
+                                   src.target_weight);
     if (src.targets == 0) {
         res.lost.grazing_mirror += src.power;  // no PSF can carry it
         return;
@@ -84,15 +83,15 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     src.height = r.jmax - r.jmin + 1;
     src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
     src.covered.assign(size_t(src.width) * src.height, 0);
-    for_fragments(g, g.frags_of(uint32_t(f)),
-                  [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                      tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                          const size_t at = size_t(tile.t * pc.m + v - src.j0) * src.width +
-                                            (tile.s * pc.m + u - src.i0);
-                          src.radiance[at] = RgbF(in[base + k] / pd.beam);
-                          src.covered[at] = 1;
-                      });
-                  });
+    for_fragments(
+        g, g.frags_of(uint32_t(f)), [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+                const size_t at =
+                    size_t(tile.t * pc.m + v - src.j0) * src.width + (tile.s * pc.m + u - src.i0);
+                src.radiance[at] = RgbF(in[base + k] / pd.beam);
+                src.covered[at] = 1;
+            });
+        });
     res.sources.push_back(std::move(src));
 }
 

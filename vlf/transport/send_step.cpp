@@ -67,8 +67,9 @@ void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c
                       [&](const Tile&, const Fragment& fr, uint32_t) { covered += fr.covered; });
     if (covered == 0) return;
     const std::vector<ChartCosine>& here = pc.charts[pd.d];
-    const auto at = std::lower_bound(here.begin(), here.end(), uint32_t(c.id),
-                                     [](const ChartCosine& x, uint32_t id) { return x.chart < id; });
+    const auto at =
+        std::lower_bound(here.begin(), here.end(), uint32_t(c.id),
+                         [](const ChartCosine& x, uint32_t id) { return x.chart < id; });
     VLF_CHECK(at != here.end() && at->chart == uint32_t(c.id));
     const double nz = at->cosine;
     const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[c.id];
@@ -103,14 +104,13 @@ void store_rays(const PassContext& pc, const PassDirection& pd, size_t f, Radian
     const uint64_t mb = maps.begin(pd.d, int(f));
     VLF_CHECK(maps.count(pd.d, int(f)) == pc.coverage(pd.d, int(f)));
     uint64_t kl = 0;
-    for_fragments(g, g.frags_of(uint32_t(f)),
-                  [&](const Tile&, const Fragment& fr, uint32_t base) {
-                      for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
-                          Rgb& o = out[base + k];
-                          if (with_unshot) o += Rgb(maps.unshot[mb + kl]) * beam;
-                          maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
-                      }
-                  });
+    for_fragments(g, g.frags_of(uint32_t(f)), [&](const Tile&, const Fragment& fr, uint32_t base) {
+        for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
+            Rgb& o = out[base + k];
+            if (with_unshot) o += Rgb(maps.unshot[mb + kl]) * beam;
+            maps.total[mb + kl] += RgbF(o / beam);  // VLF §4.1 line 9
+        }
+    });
 }
 
 // Super-sampling (VLF §5): which N x N parent ray a fine ray (i, j) of a face belongs to,
@@ -158,13 +158,12 @@ Rgb unshot_scale(const PassContext& pc, const PassDirection& pd, size_t f, const
     const double beam_c = ray_area(pc.Nc) * pc.dirs.solid_angle(pd.d);
     Rgb unshot(0.0), reach(0.0);
     for (uint64_t k = 0; k < parents; ++k) unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-    for_fragments(g, g.frags_of(uint32_t(f)),
-                  [&](const Tile& tile, const Fragment& fr, uint32_t) {
-                      tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
-                          const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
-                          if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * pd.beam;
-                      });
-                  });
+    for_fragments(g, g.frags_of(uint32_t(f)), [&](const Tile& tile, const Fragment& fr, uint32_t) {
+        tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
+            const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
+            if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * pd.beam;
+        });
+    });
     Rgb scale(0.0);
     for (int c = 0; c < 3; ++c) {
         if (reach[c] > 0.0)

@@ -10,8 +10,8 @@
 namespace vlf {
 
 int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
-                     const Coverage& coverage,
-                     std::array<int, 3>& dir, std::array<double, 3>& weight) {
+                     const Coverage& coverage, std::array<int, 3>& dir,
+                     std::array<double, 3>& weight) {
     const Vec3 n = f.normal;
     const Vec3 out = incoming_travel - 2.0 * glm::dot(incoming_travel, n) * n;  // mirror
     const EnclosingTriangle tri = dirs.enclosing(glm::normalize(out));

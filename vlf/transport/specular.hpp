@@ -43,8 +43,8 @@ struct SpecularSource {
 // The reflected travel direction's enclosing PSF directions on which face `f` shows its
 // front and has rays (`coverage(d, f)`), weights renormalised; returns how many.
 int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
-                     const Coverage& coverage,
-                     std::array<int, 3>& dir, std::array<double, 3>& weight);
+                     const Coverage& coverage, std::array<int, 3>& dir,
+                     std::array<double, 3>& weight);
 
 // Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
 // zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).

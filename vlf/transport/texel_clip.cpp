@@ -1,10 +1,9 @@
 #include "vlf/transport/texel_clip.hpp"
 
-#include "vlf/core/parallel.hpp"
-
 #include <algorithm>
 #include <cmath>
 
+#include "vlf/core/parallel.hpp"
 #include "vlf/scene/texel_frame.hpp"
 
 namespace vlf {
@@ -193,8 +192,8 @@ constexpr int kMaxFolds = 3;
 // edge (and inside the edges before it) is mirrored back across that edge and folded in
 // the same way. See clip_footprint_to_grid in the header for why.
 template <class P>
-void fold_to_grid(const P& piece, int depth, const std::vector<RimLine>& rim, int width,
-                  int height, std::vector<TexelOverlap>& out) {
+void fold_to_grid(const P& piece, int depth, const std::vector<RimLine>& rim, int width, int height,
+                  std::vector<TexelOverlap>& out) {
     const int n = static_cast<int>(rim.size());
     P ia, ib, right, image;
     const P* inside = &piece;
@@ -279,7 +278,8 @@ std::vector<RimLine> own_rim(const Face& face, const TexelFrame& grid) {
     p.reserve(n);
     for (const Vec3& v : face.vertices) p.push_back(grid.to_texel(v));
     double twice_area = 0.0;
-    for (size_t k = 0; k < n; ++k) twice_area += p[k].x * p[(k + 1) % n].y - p[k].y * p[(k + 1) % n].x;
+    for (size_t k = 0; k < n; ++k)
+        twice_area += p[k].x * p[(k + 1) % n].y - p[k].y * p[(k + 1) % n].x;
     std::vector<RimLine> rim;
     for (size_t e = 0; e < n; ++e) {
         if (e < 64 && (face.inner_edges >> e & 1u)) continue;
@@ -353,8 +353,7 @@ void add_chart_rim(const Scene& scene, const Chart& c, double reach_normalised,
         near.clear();
         for (uint32_t r : seen) {
             const RimLine& line = rim[r];
-            const double gap =
-                box_gap2(lo, hi, glm::min(line.a, line.b), glm::max(line.a, line.b));
+            const double gap = box_gap2(lo, hi, glm::min(line.a, line.b), glm::max(line.a, line.b));
             if (gap > reach * reach) continue;
             // A line whose extension cuts the face (a bend of a curved rim, a concave
             // corner) is no rim for it: the face lies inside every line it is clipped at.

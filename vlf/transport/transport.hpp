@@ -49,8 +49,7 @@ Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations
 // the sum over the directions it has rays in of its projected_cosine * Delta_d (VLF §4.4
 // eq. (3)).
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
-                                     const std::vector<Mat3>& rotations,
-                                     const Coverage& coverage);
+                                     const std::vector<Mat3>& rotations, const Coverage& coverage);
 
 struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
 
@@ -118,7 +117,7 @@ class Transport {
     struct Pass {
         std::vector<Mat3> rotations;
         std::vector<double> send_norm;  // per chart: sum_d |n . omega_d| Delta_d, covered d
-        bool norms_known = false;  // every chart's, after the pass's first run
+        bool norms_known = false;       // every chart's, after the pass's first run
         // Per direction, from the pass's first run: its charts, ascending, with cosines.
         std::vector<std::vector<ChartCosine>> charts;
     };
@@ -143,15 +142,15 @@ class Transport {
     const Scene& m_scene;
     PropagateParams m_params;
     DirectionSet m_dirs;
-    std::vector<Mat3> m_rot;           // per direction (= m_passes[0].rotations)
-    Coverage m_coverage;               // stored faces and emitters, on the N x N grid
-    std::vector<Pass> m_passes;        // the true directions, then each perturbation
+    std::vector<Mat3> m_rot;     // per direction (= m_passes[0].rotations)
+    Coverage m_coverage;         // stored faces and emitters, on the N x N grid
+    std::vector<Pass> m_passes;  // the true directions, then each perturbation
     TextureMaps m_tex;
-    RadianceMaps m_spec;                        // L_U, L_T of specular faces
-    RadianceMaps m_other;                       // L_T of the other faces (--store-all-rays)
-    std::vector<uint8_t> m_deferred;            // per chart, this cycle
-    std::vector<FaceInTexels> m_polygons;       // per face: its polygon in its chart's texels
-    RimPools m_pools;                           // rim texels and the texels they pool with
+    RadianceMaps m_spec;                   // L_U, L_T of specular faces
+    RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays)
+    std::vector<uint8_t> m_deferred;       // per chart, this cycle
+    std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels
+    RimPools m_pools;                      // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;
     LedgerEntry m_running;            // cumulative absorbed/escaped/emitted
     double m_mean_reflectance = 0.0;  // rho_S of §4.5 eq. (4)

@@ -120,8 +120,8 @@ struct ChunkResult {
 struct GeometryInputs {
     const Scene& scene;
     const std::vector<FaceInTexels>& polygons;  // per face, in its chart's texel coordinates
-    double seal_gap;                                 // exchange.hpp kSealed
-    int N, m;                                        // the exchange grid
+    double seal_gap;                            // exchange.hpp kSealed
+    int N, m;                                   // the exchange grid
     // A pass whose geometry is used once clips only the rays of these faces (per face,
     // nonzero: sends) and their partners; null clips every ray.
     const uint8_t* sending;

@@ -56,8 +56,7 @@ double transport_detail::projected_cosine(const Scene& scene, const Chart& c,
 // every chart sum to exactly 1. Here for the emitting charts, which send in the first
 // cycle; the others' come from the first cycle's geometry (finish_normalisers).
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
-                                     const std::vector<Mat3>& rotations,
-                                     const Coverage& coverage) {
+                                     const std::vector<Mat3>& rotations, const Coverage& coverage) {
     std::vector<double> norm(scene.charts.size(), 0.0);
     parallel_for(0, static_cast<long>(scene.charts.size()), [&](long k) {
         const Chart& c = scene.charts[k];
@@ -138,7 +137,8 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
         const Material& mat = scene.material_of(f);
         measured[f.id] = mat.is_emitter() || mat.is_specular() || params.store_all_rays;
     }
-    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, params.field.tile, measured);
+    m_coverage =
+        measure_coverage(scene, m_rot, params.field.resolution, params.field.tile, measured);
     m_passes.resize(size_t(params.perturbations) + 1);
     for (int p = 0; p <= params.perturbations; ++p) m_passes[p] = make_pass(p);
     m_tex = TextureMaps(scene);
