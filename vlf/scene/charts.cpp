@@ -85,6 +85,65 @@ std::vector<int> find_neighbours(const std::vector<Face>& faces, const std::vect
     return out;
 }
 
+Vec3 mean_normal(const Chart& c, const std::vector<Face>& faces) {
+    Vec3 sum(0.0);
+    for (int f : c.faces) sum += faces[f].normal * faces[f].area;
+    const double l = glm::length(sum);
+    return l > 0 ? sum / l : faces[c.faces[0]].normal;
+}
+
+// A chart of less than `min_area` (a texel) is too small to own rays: on a crease of a
+// curved mesh its slivers would bake black. It joins the neighbouring chart whose normal
+// is nearest its own, if every one of its faces lies within kMergeAngleDeg of that
+// normal. Charts are then renumbered in order of their first face.
+void merge_small_charts(Scene& scene, const std::vector<int>& neighbour,
+                        const std::vector<size_t>& offset, double min_area) {
+    std::vector<Face>& faces = scene.faces;
+    std::vector<Chart>& charts = scene.charts;
+    const double cos_merge = std::cos(kMergeAngleDeg * kPi / 180.0);
+    for (Chart& s : charts) {
+        double area = 0.0;
+        for (int f : s.faces) area += faces[f].area;
+        if (area >= min_area || s.faces.empty()) continue;
+        const Vec3 ns = mean_normal(s, faces);
+        int best = -1;
+        double best_dot = -2.0;
+        for (int f : s.faces)
+            for (size_t e = 0; e < faces[f].vertices.size(); ++e) {
+                const int g = neighbour[offset[f] + e];
+                if (g < 0 || faces[g].chart == s.id) continue;
+                const Chart& t = charts[faces[g].chart];
+                const Vec3 nt = mean_normal(t, faces);
+                bool fits = true;
+                for (int h : s.faces) fits = fits && glm::dot(faces[h].normal, nt) >= cos_merge;
+                const double d = glm::dot(ns, nt);
+                if (fits && (d > best_dot || (d == best_dot && t.id < best))) {
+                    best = t.id;
+                    best_dot = d;
+                }
+            }
+        if (best < 0) continue;
+        for (int f : s.faces) faces[f].chart = best;
+        charts[best].faces.insert(charts[best].faces.end(), s.faces.begin(), s.faces.end());
+        s.faces.clear();
+    }
+    std::vector<Chart> kept;
+    for (Chart& c : charts) {
+        if (c.faces.empty()) continue;
+        std::sort(c.faces.begin(), c.faces.end());
+        c.id = static_cast<int>(kept.size());
+        for (int f : c.faces) faces[f].chart = c.id;
+        kept.push_back(std::move(c));
+    }
+    std::sort(kept.begin(), kept.end(),
+              [](const Chart& a, const Chart& b) { return a.faces[0] < b.faces[0]; });
+    for (size_t k = 0; k < kept.size(); ++k) {
+        kept[k].id = static_cast<int>(k);
+        for (int f : kept[k].faces) faces[f].chart = kept[k].id;
+    }
+    charts = std::move(kept);
+}
+
 }  // namespace
 
 void build_charts(Scene& scene, double texel_size, int max_texels_per_side, double max_angle_deg) {
@@ -93,8 +152,10 @@ void build_charts(Scene& scene, double texel_size, int max_texels_per_side, doub
     std::vector<size_t> offset(nf + 1, 0);
     for (size_t f = 0; f < nf; ++f) offset[f + 1] = offset[f] + faces[f].vertices.size();
     const double cos_max = std::cos(max_angle_deg * kPi / 180.0);
-    const std::vector<int> neighbour = max_angle_deg > 0 ? find_neighbours(faces, offset, cos_max)
-                                                         : std::vector<int>(offset.back(), -1);
+    const double cos_merge = std::cos(kMergeAngleDeg * kPi / 180.0);
+    const std::vector<int> neighbour =
+        max_angle_deg > 0 ? find_neighbours(faces, offset, std::min(cos_max, cos_merge))
+                          : std::vector<int>(offset.back(), -1);
 
     scene.charts.clear();
     for (Face& f : faces) f.chart = -1, f.inner_edges = 0;
@@ -121,6 +182,7 @@ void build_charts(Scene& scene, double texel_size, int max_texels_per_side, doub
         }
         scene.charts.push_back(std::move(c));
     }
+    if (max_angle_deg > 0) merge_small_charts(scene, neighbour, offset, texel_size * texel_size);
     for (Face& f : faces)
         for (size_t e = 0; e < f.vertices.size() && e < 64; ++e) {
             const int g = neighbour[offset[f.id] + e];
