@@ -8,7 +8,7 @@
 #   floor series (-f): scenes/floor-quad.json whose floor is 1000 * 4^k random triangles
 #     covering the same quad (bench/make_triangulated_floor.py)
 # Each run: /usr/bin/time -v build/propagate/propagate SCENE -l 513 -N 64 -m 8 -c 4 -q -o OUT
-# --report R.json (other propagate options, given after the flags, replace these four).
+# --report R.json --no-surfaces (other propagate options, given after the flags, replace these four).
 # Columns: setup = scene load + texel frames + light-field set-up; propagation = the cycles
 # (passes, specular, filter, bookkeeping, resampling); write = writing the bake; wall =
 # /usr/bin/time's elapsed time of the whole process; RSS = its peak resident set.
@@ -64,7 +64,7 @@ for level in $(seq 0 "$max"); do
   for i in $(seq 1 "$repeat"); do
     rc=0
     /usr/bin/time -v -o "$work/$name-time-$i.txt" nice -n 19 "$build/propagate/propagate" \
-      "$work/$name.json" "${args[@]}" -q -o "$work/$name.vlf" --report "$work/$name-report-$i.json" \
+      "$work/$name.json" "${args[@]}" -q -o "$work/$name.vlf" --report "$work/$name-report-$i.json" --no-surfaces \
       > "$work/log.txt" 2>&1 || rc=$?
     if [ $rc != 0 ]; then
       failed="failed (exit $rc): $(tail -n 1 "$work/log.txt")"

@@ -27,6 +27,7 @@ struct Options {
     std::string scene;
     std::string output;
     std::string report;
+    bool no_surfaces = false;
     std::string scheme = "octahedral";
     std::string quality;
     bool dry_run = false;
@@ -108,7 +109,7 @@ int run(Options o, const CLI::App& app) {
     };
     vlf::Propagation run = vlf::propagate(scene, p, run_opts);
     const vlf::Stopwatch write_time;
-    nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0, !o.report.empty());
+    nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0, false);
     // The light field goes from the radiance maps to the file one direction at a time.
     const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report, false);
     vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));
@@ -118,7 +119,12 @@ int run(Options o, const CLI::App& app) {
     report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];
     report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write
     report["memory_bytes"]["startup_rss"] = startup_rss;
-    if (!o.report.empty()) vlf::write_text_atomically(o.report, report.dump(2) + "\n");
+    if (!o.report.empty()) {
+        // After the bake (its time and memory are not the bake's): one entry per face.
+        if (!o.no_surfaces)
+            report["surfaces"] = vlf::surface_report(scene, run.transport->texture_maps());
+        vlf::write_text_atomically(o.report, report.dump(2) + "\n");
+    }
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
     if (!o.quiet)
@@ -145,6 +151,8 @@ int main(int argc, char** argv) {
     app.add_flag("--dry-run", o.dry_run,
                  "Load and rasterise only: print the scene summary and light-field statistics");
     app.add_option("--report", o.report, "Also write the summary/statistics/ledger as JSON");
+    app.add_flag("--no-surfaces", o.no_surfaces,
+                 "Leave the per-face radiance out of --report (large for a million faces)");
     app.add_option("--quality", o.quality,
                    "Preset: draft, preview, final or reference (field, stop rule, refinements, "
                    "texel density; options given explicitly win)");
