@@ -589,6 +589,9 @@ void check_options(const LoadOptions& options) {
     if (options.max_texels_per_side < 1)
         throw ParameterError(
             fmt::format("max texels per side must be >= 1 (got {})", options.max_texels_per_side));
+    if (!(options.chart_angle_deg >= 0.0 && options.chart_angle_deg < 90.0))
+        throw ParameterError(fmt::format("chart angle must be in [0, 90) degrees (got {})",
+                                         options.chart_angle_deg));
 }
 
 }  // namespace
