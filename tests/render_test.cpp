@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <utility>
@@ -20,6 +22,7 @@
 #include "test_util.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
+#include "vlf/render/camera.hpp"
 #include "vlf/render/image_metrics.hpp"
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/propagation.hpp"
@@ -228,6 +231,71 @@ TEST(RenderAccuracy, CornellAwayFromEmitters) {
 TEST(RenderAccuracy, CornellMirrorsAwayFromEmitters) {
     VLF_SKIP_UNDER_SANITIZER();
     expect_accurate("scenes/cornell-mirrors.json", "cornell-mirrors-pathtrace-128.exr");
+}
+
+// Issue 11: however small the lamp, its power enters the field. The empty Cornell box lit
+// by a 1 mm square of the big lamp's power (small_emitters.hpp: it owns no ray in most
+// directions, so it shoots by ray casting): the ledger closes, and the walls get the path
+// tracer's radiance — mean within 5 % per channel away from the lamp (the issue's bound;
+// 8 cycles leave about 1 % unshot), relative RMSE within 10 % against a 512-spp reference
+// of 64 x 64 pixels (its own noise is about 3 %).
+TEST(RenderAccuracy, OneMillimetreLampLightsTheBox) {
+    VLF_SKIP_UNDER_SANITIZER();
+    std::ifstream in(test::source_path("scenes/cornell-empty.json"));
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    auto replace = [&](const std::string& from, const std::string& to) {
+        const size_t at = text.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+    };
+    // 130 x 105 mm at Le = (17, 12, 4) -> 1 x 1 mm at 13,650 times the radiance.
+    replace("\"emission\": [17.0, 12.0, 4.0]", "\"emission\": [232050.0, 163800.0, 54600.0]");
+    replace(
+        "[[343.0, 548.7, 227.0], [343.0, 548.7, 332.0], [213.0, 548.7, 332.0], [213.0, 548.7, "
+        "227.0]]",
+        "[[278.5, 548.7, 279.0], [278.5, 548.7, 280.0], [277.5, 548.7, 280.0], [277.5, 548.7, "
+        "279.0]]");
+    const Scene scene = load_scene_from_string(text, "tiny-lamp.json", test::source_path("scenes"));
+    PropagateParams p;
+    p.cycles = 8;
+    const Propagation run = propagate(scene, p, {});
+    for (const LedgerEntry& e : run.transport->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
+    EXPECT_LT(run.transport->ledger().back().unshot.x,
+              0.02 * run.transport->ledger().back().emitted.x);
+    const Bake bake = make_bake(scene, p, *run.transport, propagation_report(scene, p, run, 0.0));
+    const Renderer r(bake);
+    const Camera& cam = scene.cameras.at(0);
+    RenderSettings ref;
+    ref.width = ref.height = 64;
+    ref.mode = RenderMode::Pathtrace;
+    ref.spp = 512;
+    const Image pt = r.render(cam, ref);
+    RenderSettings tex = ref;
+    tex.mode = RenderMode::Texture;
+    tex.pixel_samples = kPixelSamples;
+    const Image im = r.render(cam, tex);
+    // The lamp is far below a pixel: its own pixel and the ones around it (where the
+    // path tracer's jittered samples can meet it) are the "emitter" pixels.
+    PixelMask mask = r.emitter_mask(cam, 64, 64, kPixelSamples);
+    const PinholeCamera pc(cam, scene.normalisation, 64, 64);
+    const Vec3 to_lamp =
+        glm::normalize(scene.normalisation.to_normalised(Vec3(278.0, 548.7, 279.5)) - pc.origin());
+    int lx = 0, ly = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            if (glm::dot(pc.direction(x + 0.5, y + 0.5), to_lamp) >
+                glm::dot(pc.direction(lx + 0.5, ly + 0.5), to_lamp))
+                lx = x, ly = y;
+    for (int y = std::max(0, ly - 1); y <= std::min(63, ly + 1); ++y)
+        for (int x = std::max(0, lx - 1); x <= std::min(63, lx + 1); ++x)
+            mask.on[size_t(y) * 64 + x] = 1;
+    const ImageError e = image_error(im, pt, mask);
+    std::printf(
+        "1 mm lamp: texture against the path tracer, RMSE away %.4f, mean ratio %.4f %.4f "
+        "%.4f\n",
+        e.rmse_away, e.ratio_away.x, e.ratio_away.y, e.ratio_away.z);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.ratio_away[c], 1.0, 0.05) << "channel " << c;
+    EXPECT_LE(e.rmse_away, 0.10);
 }
 
 }  // namespace

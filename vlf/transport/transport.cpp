@@ -8,7 +8,9 @@
 
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
+#include "vlf/scene/raycaster.hpp"
 #include "vlf/transport/gaussian_filter.hpp"
+#include "vlf/transport/small_emitters.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
 namespace vlf {
@@ -84,6 +86,38 @@ void Transport::load_emission(LedgerEntry& e) {
             e.emitted += p;
         }
     }
+}
+
+void Transport::shoot_small_emitters() {
+    if (m_small_emitters.empty()) return;
+    const Stopwatch shot;
+    const RayCaster caster(m_scene);
+    // Enough rays that every texel in view gets a few hundred of them.
+    const uint64_t K =
+        std::clamp<uint64_t>(uint64_t(256) * m_tex.texels(), uint64_t(1) << 20, uint64_t(1) << 25);
+    std::vector<ChunkResult>& chunks = m_work->chunks;
+    chunks.resize(kWave);
+    std::vector<SpecularSource> none;
+    for (int chart : m_small_emitters) {
+        const size_t b = m_tex.begin(chart), n = m_tex.count(chart);
+        const Rgb power = TextureMaps::sum(m_tex.current, b, n);
+        for (size_t t = b; t < b + n; ++t) m_tex.current[t] = Rgb(0.0);  // shot now
+        // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
+        for (int wave = 0; wave < kChunks; wave += kWave) {
+            parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
+                ChunkResult& res = chunks[c - wave];
+                res.reset(m_tex.texels());
+                ShotResult out{res.next};
+                shoot_rays(m_scene, caster, m_tex, chart, power, K * uint64_t(c) / kChunks,
+                           K * uint64_t(c + 1) / kChunks, K, out);
+                res.absorbed = out.absorbed;
+                res.absorbed_back = out.absorbed_back;
+                res.escaped = out.escaped;
+            });
+            reduce_chunks(std::min(kWave, kChunks - wave), none);
+        }
+    }
+    m_timings.passes += shot.seconds();
 }
 
 // VLF §4.5: a chart whose unshot power is small against what the scene as a whole is
@@ -202,7 +236,10 @@ void Transport::run_cycle(bool last) {
     Stopwatch sw;
     LedgerEntry e;
     e.cycle = cycles_done() + 1;
-    if (e.cycle == 1) load_emission(m_running);
+    if (e.cycle == 1) {
+        load_emission(m_running);
+        shoot_small_emitters();
+    }
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
     m_timings.bookkeeping += sw.lap();

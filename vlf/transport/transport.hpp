@@ -128,6 +128,9 @@ class Transport {
     Pass make_pass(int p) const;
 
     void load_emission(LedgerEntry& e);
+    // Cycle 1: the emitters smaller than a ray shoot their power by ray casting
+    // (small_emitters.hpp) instead of through the PSFs.
+    void shoot_small_emitters();
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
@@ -149,6 +152,7 @@ class Transport {
     RadianceMaps m_spec;                   // L_U, L_T of specular faces
     RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays)
     std::vector<uint8_t> m_deferred;       // per chart, this cycle
+    std::vector<int> m_small_emitters;     // charts that shoot by ray casting
     std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels
     RimPools m_pools;                      // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;

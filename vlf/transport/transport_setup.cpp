@@ -7,6 +7,7 @@
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/transport/perturbation.hpp"
+#include "vlf/transport/small_emitters.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
 namespace vlf {
@@ -153,6 +154,7 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_other = RadianceMaps(scene, other, l, m_coverage, false);
     m_mean_reflectance = mean_reflectance(scene);
     m_deferred.assign(scene.charts.size(), 0);
+    m_small_emitters = small_emitter_charts(scene, params.field.resolution * params.supersample);
     // A beam's footprint reaches about a pixel (2 / N, the PSF square's side over N) from
     // its ray; two pixels of the exchange grid cover beams down to cos 0.35 (docs/charts.md).
     m_polygons = faces_in_texels(scene, 2.0 * 2.0 / (params.field.resolution * params.supersample));
