@@ -78,8 +78,8 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
         // Hammersley: (k + 1/2) / K and base 2 for the direction (cosine-weighted, Malley),
         // bases 3, 5, 7 for the point.
         const double u1 = (double(k) + 0.5) / double(K), u2 = radical_inverse(k, 2);
-        const Vec3 p = point_on(scene, c, radical_inverse(k, 3), radical_inverse(k, 5),
-                                radical_inverse(k, 7));
+        const Vec3 p =
+            point_on(scene, c, radical_inverse(k, 3), radical_inverse(k, 5), radical_inverse(k, 7));
         const Face& emitter = scene.faces[c.faces[0]];
         const Vec3 n = emitter.normal;
         const Vec3 a = std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
