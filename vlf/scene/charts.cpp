@@ -1,6 +1,8 @@
 // charts.cpp — region growing of charts over shared edges (charts.hpp).
 #include "vlf/scene/charts.hpp"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -50,14 +52,16 @@ std::pair<Vec3, Vec3> ends(const Face& f, int e) {
 // face's; an edge with more than one such candidate has none.
 std::vector<int> find_neighbours(const std::vector<Face>& faces, const std::vector<size_t>& offset,
                                  double cos_max) {
-    std::vector<EdgeRef> edges;
-    edges.reserve(offset.back());
-    for (const Face& f : faces)
+    std::vector<EdgeRef> edges(offset.back());
+    parallel_for(0, static_cast<long>(faces.size()), [&](long fi) {
+        const Face& f = faces[fi];
         for (int e = 0; e < int(f.vertices.size()); ++e) {
             const auto [a, b] = ends(f, e);
-            edges.push_back({point_hash(a) * 31 ^ point_hash(b), f.id, e});
+            edges[offset[fi] + e] = {point_hash(a) * 31 ^ point_hash(b), f.id, e};
         }
-    std::sort(edges.begin(), edges.end(), [](const EdgeRef& x, const EdgeRef& y) {
+    });
+    // A total order (key, face, edge): the parallel sort gives the one result.
+    tbb::parallel_sort(edges.begin(), edges.end(), [](const EdgeRef& x, const EdgeRef& y) {
         return std::tie(x.key, x.face, x.edge) < std::tie(y.key, y.face, y.edge);
     });
     std::vector<int> out(offset.back(), -1);
