@@ -37,19 +37,6 @@ namespace fs = std::filesystem;
 // is -x). Depth 0.5: one pixel is 1/16 wide. A lamp faces the eye with its edges at pixel
 // columns 4.3 and 9.1 and rows 2.5 and 5.05; a diffuse strip nearer the eye hides columns
 // 5.9 to 7.1; a second lamp turns its back to the eye; a wall closes the view.
-// Two quads meeting along x = 0 at 40 degrees (a shallow roof, ridge towards the camera's
-// view), written to a temporary directory; returns it.
-std::string write_fold_obj() {
-    const fs::path dir = fs::temp_directory_path() / "vlf-render-fold";
-    fs::create_directories(dir);
-    std::ofstream out(dir / "fold.obj");
-    const double h = std::tan(20.0 * kPi / 180.0);  // each side tilted 20 degrees
-    out << "v -1 " << -h << " -1\nv 0 0 -1\nv 0 0 1\nv -1 " << -h << " 1\n";
-    out << "v 1 " << -h << " -1\nv 1 " << -h << " 1\n";
-    out << "f 1 4 3 2\nf 2 3 6 5\n";
-    return dir.string();
-}
-
 constexpr const char* kMaskScene = R"({
   "materials": {"wall": {"diffuse": [0.5, 0.5, 0.5]}, "lamp": {"emission": [5, 5, 5]}},
   "objects": [
@@ -131,45 +118,6 @@ TEST(RenderPixelSamples, AreABoxFilterOfAFinerImage) {
     RenderSettings bad;
     bad.pixel_samples = 0;
     EXPECT_THROW(r.render(scene.cameras[0], bad), ParameterError);
-}
-
-// A fold between two charts (faces at 40 degrees: two charts, one seam): texture lookups
-// blend the charts within a texel of the seam, so a row of pixels across it climbs from
-// one chart's radiance to the other's without a step; far from it each chart shows its own.
-TEST(RenderSeams, BlendAcrossASeamBetweenCharts) {
-    const Scene scene = load_scene_from_string(R"({
-      "materials": {"w": {"diffuse": [0.5, 0.5, 0.5]}, "l": {"emission": [1, 1, 1]}},
-      "objects": [
-        {"type": "mesh", "file": "fold.obj", "material": "w"},
-        {"type": "polygon", "material": "l", "vertices": [[0,5,-1],[0,5,1],[0.1,5,1],[0.1,5,-1]]}],
-      "settings": {"texel_size": 0.05},
-      "cameras": [{"name": "c", "eye": [0, 1.5, 3], "look_at": [0, -0.1, 0], "fov_y_deg": 40}]
-    })",
-                                               "fold.json", write_fold_obj());
-    const Face& f0 = scene.faces[0];
-    const Face& f1 = scene.faces[1];
-    ASSERT_NE(f0.chart, f1.chart);
-    Bake bake = test::scene_only_bake(scene);
-    for (int c : {f0.chart, f1.chart})
-        for (size_t t = bake.texel_offset[c]; t < bake.texel_offset[c + 1]; ++t)
-            bake.lightmap_radiance[t] = Rgb(c == f0.chart ? 1.0 : 3.0);
-    const Renderer r(bake);
-    RenderSettings s;
-    s.width = s.height = 200;
-    s.mode = RenderMode::Texture;
-    const Image im = r.render(scene.cameras[0], s);
-    double lo = 1e9, hi = -1e9, step = 0.0;
-    const size_t row = 100 * 200;  // the middle row crosses the ridge
-    for (int x = 1; x < 200; ++x) {
-        const double a = im.pixels[row + x - 1].x, b = im.pixels[row + x].x;
-        if (a <= 0 || b <= 0) continue;  // off the fold
-        lo = std::min(lo, b);
-        hi = std::max(hi, b);
-        step = std::max(step, std::abs(b - a));
-    }
-    EXPECT_NEAR(lo, 1.0, 1e-9);
-    EXPECT_NEAR(hi, 3.0, 1e-9);
-    EXPECT_LT(step, 0.5);  // without blending one pixel jumps by 2
 }
 
 TEST(RenderModes, NamesRoundTrip) {

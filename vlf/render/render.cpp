@@ -12,7 +12,6 @@
 #include "vlf/field/lightmap.hpp"
 #include "vlf/render/camera.hpp"
 #include "vlf/render/pathtrace.hpp"
-#include "vlf/scene/charts.hpp"
 #include "vlf/scene/raycaster.hpp"
 
 namespace vlf {
@@ -57,10 +56,6 @@ struct Renderer::Impl {
     std::vector<Mat3> rotation;     // per PSF direction: R with R * omega_d = +z
     std::vector<char> stored_rays;  // per face: the bake holds L_T rays of it
     int N = 0;
-    // Per face edge: the face across it in another chart of the same material, meeting at
-    // less than kSeamAngleDeg (a seam the lookup blends across), or -1.
-    std::vector<size_t> edge_offset;
-    std::vector<int> seam;
 
     explicit Impl(const Bake& b)
         : bake(b), scene(b.scene), caster(b.scene), tracer(b.scene, caster) {
@@ -77,46 +72,12 @@ struct Renderer::Impl {
         stored_rays.assign(scene.faces.size(), 0);
         for (int32_t f : bake.rays.face)
             if (f >= 0 && size_t(f) < stored_rays.size()) stored_rays[f] = 1;
-        seam = edge_neighbours(scene.faces, std::cos(kSeamAngleDeg * kPi / 180.0), edge_offset);
-        for (const Face& f : scene.faces)
-            for (size_t e = 0; e < f.vertices.size(); ++e) {
-                int& g = seam[edge_offset[f.id] + e];
-                if (g >= 0 && scene.faces[g].chart == f.chart) g = -1;
-            }
     }
 
-    // P^T of chart c at x, bilinear on its grid (VLF §6.2/§6.3).
-    Rgb chart_value(int c, const Vec3& x) const {
-        return sample_lightmap(scene.charts[c],
-                               bake.lightmap_radiance.data() + bake.texel_offset[c], x);
-    }
-
-    // P^T of face f at x. Within a texel of a seam with a neighbouring chart (a curved
-    // model's charts meet along seams), the two charts' values are blended, half and half
-    // on the seam itself, so the seam shows no step.
+    // P^T of face f at x, bilinear on its chart's grid (VLF §6.2/§6.3).
     Rgb lightmap(const Face& f, const Vec3& x) const {
-        const Rgb own = chart_value(f.chart, x);
-        const double h = scene.chart_of(f).texels.size;
-        Rgb across(0.0);
-        double w = 0.0;
-        const size_t n = f.vertices.size();
-        for (size_t e = 0; e < n; ++e) {
-            const int g = seam[edge_offset[f.id] + e];
-            if (g < 0) continue;
-            const Vec3 &a = f.vertices[e], &b = f.vertices[(e + 1) % n];
-            const Vec3 ab = b - a;
-            const double t = std::clamp(glm::dot(x - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
-            const double d = glm::length(x - (a + t * ab));
-            if (d >= h) continue;
-            const double we = 0.5 * (1.0 - d / h);
-            across += we * chart_value(scene.faces[g].chart, x);
-            w += we;
-        }
-        if (w > 0.5) {
-            across *= 0.5 / w;
-            w = 0.5;
-        }
-        return own * (1.0 - w) + across;
+        return sample_lightmap(scene.chart_of(f),
+                               bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
     }
 
     // Diffuse contribution of a face: P^T where it reflects diffusely or emits (P^T

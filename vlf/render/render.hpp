@@ -24,10 +24,6 @@
 
 namespace vlf {
 
-// Texture lookups blend two charts across a seam where their faces meet at less than this
-// angle (a curved surface's charts; a box's 90-degree edges stay sharp).
-inline constexpr double kSeamAngleDeg = 60.0;
-
 enum class RenderMode { Rays, Texture, Raytrace, Pathtrace };
 std::string to_string(RenderMode m);
 RenderMode render_mode_from_string(const std::string& s);  // throws ParameterError

@@ -150,13 +150,6 @@ void merge_small_charts(Scene& scene, const std::vector<int>& neighbour,
 
 }  // namespace
 
-std::vector<int> edge_neighbours(const std::vector<Face>& faces, double cos_min,
-                                 std::vector<size_t>& offset) {
-    offset.assign(faces.size() + 1, 0);
-    for (size_t f = 0; f < faces.size(); ++f) offset[f + 1] = offset[f] + faces[f].vertices.size();
-    return find_neighbours(faces, offset, cos_min);
-}
-
 void build_charts(Scene& scene, double texel_size, int max_texels_per_side, double max_angle_deg) {
     std::vector<Face>& faces = scene.faces;
     const size_t nf = faces.size();

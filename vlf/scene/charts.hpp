@@ -26,12 +26,6 @@ inline constexpr double kMergeAngleDeg = 75.0;
 void build_charts(Scene& scene, double texel_size, int max_texels_per_side,
                   double max_angle_deg = kChartAngleDeg);
 
-// Per face edge, at offset[f] + e (offset: the faces' vertex counts, prefix-summed, one more
-// entry at the end): the face across the edge that runs it the other way, has the same
-// material and a normal within acos(cos_min) of the face's, or -1 (none, or not one).
-std::vector<int> edge_neighbours(const std::vector<Face>& faces, double cos_min,
-                                 std::vector<size_t>& offset);
-
 // Sets a chart's derived sums (Chart::area_normal, min_cos) from its faces.
 void finish_chart(Chart& chart, const std::vector<Face>& faces);
 
