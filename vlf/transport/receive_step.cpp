@@ -19,27 +19,26 @@ struct Received {
     int imin, imax, jmin, jmax;
 };
 
-Received gather_received(const PassContext& pc, const DirectionGeometry& g, size_t f,
+Received gather_received(const PassContext& pc, const DirectionGeometry& g, FragRange frags,
                          const std::vector<Rgb>& in) {
     const int m = pc.m;
     Received r{Rgb(0.0), pc.N, -1, pc.N, -1};
-    for_fragments(g, g.frags_of(uint32_t(f)),
-                  [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                      for (uint32_t k = 0; k < fr.covered; ++k) r.power += in[base + k];
-                      r.imin = std::min(r.imin, tile.s * m);
-                      r.imax = std::max(r.imax, tile.s * m + m - 1);
-                      r.jmin = std::min(r.jmin, tile.t * m + fr.row_begin);
-                      r.jmax = std::max(r.jmax, tile.t * m + fr.row_begin + fr.rows - 1);
-                  });
+    for_fragments(g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+        for (uint32_t k = 0; k < fr.covered; ++k) r.power += in[base + k];
+        r.imin = std::min(r.imin, tile.s * m);
+        r.imax = std::max(r.imax, tile.s * m + m - 1);
+        r.jmin = std::min(r.jmin, tile.t * m + fr.row_begin);
+        r.jmax = std::max(r.jmax, tile.t * m + fr.row_begin + fr.rows - 1);
+    });
     return r;
 }
 
 // VLF §4.2, the temporary radiance tile onto P^N: rho_d of each beam's power over the
 // texels its footprint overlaps, by overlap area.
-void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
+void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f, FragRange frags,
                      const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
     const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
-    for_fragments(g, g.frags_of(uint32_t(f)), [&](const Tile&, const Fragment& fr, uint32_t base) {
+    for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
         for (uint32_t k = 0; k < fr.covered; ++k) {
             const Rgb p = in[base + k] * diffuse;
             if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
@@ -59,8 +58,9 @@ void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
 // radiance over the window of its rays, gathered later into the unshot maps of the
 // directions enclosing the mirrored one (specular.hpp).
-void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, const Received& r,
-                      const Rgb& specular, const std::vector<Rgb>& in, ChunkResult& res) {
+void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
+                      const Received& r, const Rgb& specular, const std::vector<Rgb>& in,
+                      ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
     const Face& face = pc.scene.faces[f];
     const Mat3& rot = pc.rotations[pd.d];
@@ -83,15 +83,14 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     src.height = r.jmax - r.jmin + 1;
     src.radiance.assign(size_t(src.width) * src.height, RgbF(0.0f));
     src.covered.assign(size_t(src.width) * src.height, 0);
-    for_fragments(
-        g, g.frags_of(uint32_t(f)), [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-            tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                const size_t at =
-                    size_t(tile.t * pc.m + v - src.j0) * src.width + (tile.s * pc.m + u - src.i0);
-                src.radiance[at] = RgbF(in[base + k] / pd.beam);
-                src.covered[at] = 1;
-            });
+    for_fragments(g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+            const size_t at =
+                size_t(tile.t * pc.m + v - src.j0) * src.width + (tile.s * pc.m + u - src.i0);
+            src.radiance[at] = RgbF(in[base + k] / pd.beam);
+            src.covered[at] = 1;
         });
+    });
     res.sources.push_back(std::move(src));
 }
 
@@ -122,13 +121,15 @@ void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res) {
 void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
                   ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
-    for (const uint32_t f : g.faces) {
+    for (size_t k = 0; k < g.faces.size(); ++k) {
+        const uint32_t f = g.faces[k];
+        const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
         const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
-        const Received r = gather_received(pc, g, f, w.in);
+        const Received r = gather_received(pc, g, frags, w.in);
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
         res.absorbed += r.power * (Rgb(1.0) - mat.diffuse - mat.specular);
-        if (mat.is_diffuse()) receive_diffuse(pc, g, f, mat.diffuse, w.in, res);
-        if (mat.is_specular()) reflect_specular(pc, pd, f, r, mat.specular, w.in, res);
+        if (mat.is_diffuse()) receive_diffuse(pc, g, f, frags, mat.diffuse, w.in, res);
+        if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat.specular, w.in, res);
     }
 }
 

@@ -60,17 +60,14 @@ void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c
                   const std::vector<uint32_t>& present, std::vector<Rgb>& out,
                   NumericalLoss& lost) {
     const DirectionGeometry& g = pd.g;
-    // Only directions the chart has rays in are in its normaliser (record_charts).
-    uint32_t covered = 0;
-    for (uint32_t k : present)
-        for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
-                      [&](const Tile&, const Fragment& fr, uint32_t) { covered += fr.covered; });
-    if (covered == 0) return;
+    // The chart's cosine here, recorded with the charts that have covered rays in this
+    // direction (record_charts); a chart with fragments but no covered ray is not among
+    // them, and is not in its normaliser: it sends nothing here.
     const std::vector<ChartCosine>& here = pc.charts[pd.d];
     const auto at =
         std::lower_bound(here.begin(), here.end(), uint32_t(c.id),
                          [](const ChartCosine& x, uint32_t id) { return x.chart < id; });
-    VLF_CHECK(at != here.end() && at->chart == uint32_t(c.id));
+    if (at == here.end() || at->chart != uint32_t(c.id)) return;
     const double nz = at->cosine;
     const double wd = pc.share * nz * pc.dirs.solid_angle(pd.d) / pc.send_norm[c.id];
     uint32_t rays = 0;
