@@ -31,6 +31,7 @@ struct Options {
     std::string scheme = "octahedral";
     std::string quality;
     bool dry_run = false;
+    bool validate_only = false;
     bool quiet = false;
     bool no_deferred = false;
     bool no_resample = false;
@@ -72,8 +73,8 @@ int run(Options o, const CLI::App& app) {
     p.deferred = !o.no_deferred;
     p.resample = !o.no_resample;
     vlf::validate(p);
-    if (!o.dry_run && o.output.empty())
-        throw vlf::ParameterError("-o/--output: required unless --dry-run is given");
+    if (!o.dry_run && !o.validate_only && o.output.empty())
+        throw vlf::ParameterError("-o/--output: required unless --dry-run or --validate is given");
     if (!o.output.empty()) vlf::check_output_path(o.output);
     if (!o.report.empty()) vlf::check_output_path(o.report);
 
@@ -82,6 +83,13 @@ int run(Options o, const CLI::App& app) {
     load.texel_divisions = p.texel_divisions;
     load.chart_angle_deg = p.chart_angle_deg;
     const vlf::Scene scene = vlf::load_scene(o.scene, load);
+    for (const std::string& note : scene.load_notes)
+        std::fprintf(stderr, "note: %s\n", note.c_str());
+    if (o.validate_only) {
+        std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
+        std::printf("%s: valid\n", o.scene.c_str());
+        return 0;
+    }
     vlf::ThreadLimit limit(p.threads);
     std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
 
@@ -146,10 +154,16 @@ int main(int argc, char** argv) {
     CLI::App app{
         "propagate: build the virtual light field of a scene and propagate light through it "
         "(Khanna et al., VLF).\nExample: propagate scenes/cornell.json -o out/cornell.vlf"};
-    app.add_option("scene", o.scene, "Scene file (JSON, see DESIGN §3)")->required();
+    app.add_option("scene", o.scene,
+                   "Scene: JSON (docs/scenes.md) or a model file assimp reads (.obj, .gltf, "
+                   ".glb, .ply, .fbx, .dae, ...)")
+        ->required();
     app.add_option("-o,--output", o.output, "Bake to write (OUT.vlf)");
     app.add_flag("--dry-run", o.dry_run,
                  "Load and rasterise only: print the scene summary and light-field statistics");
+    app.add_flag("--validate", o.validate_only,
+                 "Check the scene (JSON, meshes, imports, geometry) and stop: exit 0 when it "
+                 "would propagate, else one line naming the problem and exit 2");
     app.add_option("--report", o.report, "Also write the summary/statistics/ledger as JSON");
     app.add_flag("--no-surfaces", o.no_surfaces,
                  "Leave the per-face radiance out of --report (large for a million faces)");

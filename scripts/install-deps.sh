@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake make pkg-config git clang-format
-  libglm-dev libopenexr-dev libimath-dev libtbb-dev libopenmesh-dev libssl-dev
+  libglm-dev libopenexr-dev libimath-dev libtbb-dev libopenmesh-dev libassimp-dev libssl-dev
   libembree-dev libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libglfw3-dev libgl-dev libopengl-dev

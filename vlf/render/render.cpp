@@ -238,6 +238,37 @@ Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
     return im;
 }
 
+std::vector<Rgb> Renderer::shade(const std::vector<PrimaryRay>& rays,
+                                 const RenderSettings& s) const {
+    if (s.spp < 1 && s.mode == RenderMode::Pathtrace)
+        throw ParameterError("--spp: must be at least 1");
+    if (s.max_depth < 0) throw ParameterError("max_depth: must be >= 0");
+    const Impl& r = *m_impl;
+    std::vector<Rgb> out(rays.size(), Rgb(0.0));
+    parallel_for(0, long(rays.size()), [&](long i) {
+        const PrimaryRay& ray = rays[size_t(i)];
+        switch (s.mode) {
+            case RenderMode::Rays:
+                out[size_t(i)] = r.lookup_shade(ray.origin, ray.dir, true, s.max_depth);
+                break;
+            case RenderMode::Texture:
+                out[size_t(i)] = r.lookup_shade(ray.origin, ray.dir, false, s.max_depth);
+                break;
+            case RenderMode::Raytrace:
+                out[size_t(i)] = r.raytrace(ray.origin, ray.dir, s.max_depth);
+                break;
+            case RenderMode::Pathtrace: {
+                Pcg32 rng(s.seed, uint64_t(i));
+                Rgb sum(0.0);
+                for (int k = 0; k < s.spp; ++k) sum += r.tracer.radiance(ray.origin, ray.dir, rng);
+                out[size_t(i)] = sum / double(s.spp);
+                break;
+            }
+        }
+    });
+    return out;
+}
+
 PixelMask Renderer::emitter_mask(const Camera& camera, int width, int height, int k) const {
     if (k < 1) throw ParameterError("emitter_mask: k must be at least 1");
     const PinholeCamera cam(camera, m_bake.scene.normalisation, width, height);

@@ -28,6 +28,11 @@ enum class RenderMode { Rays, Texture, Raytrace, Pathtrace };
 std::string to_string(RenderMode m);
 RenderMode render_mode_from_string(const std::string& s);  // throws ParameterError
 
+struct PrimaryRay {
+    Vec3 origin{0.0};
+    Vec3 dir{0.0, 0.0, 1.0};
+};
+
 struct RenderSettings {
     int width = 512;
     int height = 512;
@@ -58,6 +63,13 @@ class Renderer {
     // seen in a mirror are not marked. Camera in user units; throws ParameterError for
     // k < 1 or a bad size.
     PixelMask emitter_mask(const Camera& camera, int width, int height, int k) const;
+
+    // Radiance along arbitrary primary rays (normalised coordinates, unit directions), one
+    // value per ray, in settings.mode (width, height and pixel_samples are not used). For
+    // Pathtrace, the mean of settings.spp paths, ray i on stream (settings.seed, i). For
+    // probes that are not pinhole images: a face seen straight on from just above it.
+    std::vector<Rgb> shade(const std::vector<PrimaryRay>& rays,
+                           const RenderSettings& settings) const;
 
     const Bake& bake() const { return m_bake; }
 

@@ -122,6 +122,9 @@ struct Scene {
     // Surfaces closer than this (normalised units: the texel size) behind the back of
     // another are sealed by it (sealed_areas.hpp, exchange.hpp kSealed).
     double seal_gap = 0.0;
+    // What loading changed or left out, one line each (imported materials' unrepresented
+    // properties, dropped degenerate faces, ...); the executables print them on stderr.
+    std::vector<std::string> load_notes;
 
     const Material& material_of(const Face& f) const { return materials[f.material]; }
     const Material& material_of(const Chart& c) const { return materials[c.material]; }

@@ -18,7 +18,8 @@
 //              units? (string)}, $schema? (string: the schema, for editors; ignored)
 //   material   diffuse? [r,g,b] = 0, specular? [r,g,b] = 0 (each in [0,1],
 //              diffuse + specular <= 1 per channel), emission? [r,g,b] = 0 (>= 0, W m^-2 sr^-1)
-//   object     type (polygon|box|sphere|cylinder|mesh), material, name? = "<type>#<index>",
+//   object     type (polygon|box|sphere|cylinder|mesh|import), material (optional for
+//              import), name? = "<type>#<index>",
 //              two_sided? = false, flip? = false, scale? = 1 (number or [sx,sy,sz], > 0),
 //              rotate_x_deg? / rotate_y_deg? / rotate_z_deg? = 0, translate? = [0,0,0]
 //              applied as: scale, rotate x, y, z (about the pivot), translate. Pivot: box
@@ -32,6 +33,14 @@
 //              caps? = true
 //   - mesh     file (.obj .ply .off .stl, relative to the scene file's directory),
 //              triangulate? = false
+//   - import   file (any format assimp reads: .obj with its .mtl, .gltf, .glb, .ply, .fbx,
+//              .dae, ...), materials? {file material name: scene material name} (overrides
+//              some), material? (overrides all: the file's materials are then unused).
+//              Each of the file's materials becomes a scene material "<name>/<file's
+//              material>" (scene_import.hpp) and an object of that name; faces are
+//              triangulated (degenerate triangles dropped with a count in the load notes);
+//              two_sided when the object or the file's material says so. The file's cameras
+//              join the scene's as "<name>/<camera>".
 //   camera     name? = "camera#<index>", eye, look_at (!= eye), up? = [0,1,0] (not parallel
 //              to the view direction), fov_y_deg (0 < fov < 180); user units
 // "triangulate": true turns every face of the object into triangles (ear clipping for planar
@@ -47,6 +56,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -55,10 +65,12 @@
 #include <set>
 
 #include "vlf/core/error.hpp"
+#include "vlf/core/files.hpp"
 #include "vlf/core/json_reader.hpp"
 #include "vlf/scene/charts.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/primitives.hpp"
+#include "vlf/scene/scene_import.hpp"
 #include "vlf/scene/sealed_areas.hpp"
 
 namespace vlf {
@@ -91,6 +103,10 @@ struct ObjectDesc {
     int subdivisions = 2;
     CylinderShape cylinder;
     std::string file, file_path;  // mesh: as written, resolved against the scene directory
+    bool material_given = true;   // import: "material" overrides the file's materials
+    std::vector<std::pair<std::string, int>> material_overrides;  // import: "materials"
+    std::string overrides_place;                                  // import: "objects[i].materials"
+    int source_object = 0;  // after the imports are expanded: the JSON object it came from
 };
 
 struct SceneDescription {
@@ -99,9 +115,11 @@ struct SceneDescription {
     std::vector<Camera> cameras;
     std::optional<double> texel_size;
     std::string units;
+    std::vector<std::string> notes;  // Scene::load_notes
 };
 
-const std::vector<std::string> kObjectTypes = {"polygon", "box", "sphere", "cylinder", "mesh"};
+const std::vector<std::string> kObjectTypes = {"polygon",  "box",  "sphere",
+                                               "cylinder", "mesh", "import"};
 
 // The keys an object of `type` may have.
 std::vector<std::string> object_keys(const std::string& type) {
@@ -119,6 +137,8 @@ std::vector<std::string> object_keys(const std::string& type) {
         specific = {"radius", "inner_radius", "height", "center", "segments", "caps"};
     else if (type == "mesh")
         specific = {"file", "triangulate"};
+    else if (type == "import")
+        specific = {"file", "materials"};
     keys.insert(keys.end(), specific.begin(), specific.end());
     return keys;
 }
@@ -212,7 +232,7 @@ void validate_cylinder(const Reader& r, ObjectDesc& o) {
     if (const auto b = r.optional("caps")) c.caps = b->boolean();
 }
 
-void validate_mesh(const Reader& r, ObjectDesc& o, const std::string& base_dir) {
+void validate_file(const Reader& r, ObjectDesc& o, const std::string& base_dir) {
     const Reader file = r.required("file");
     o.file = file.string();
     if (o.file.empty()) file.fail("empty file name");
@@ -220,9 +240,27 @@ void validate_mesh(const Reader& r, ObjectDesc& o, const std::string& base_dir) 
     o.file_path = (p.is_absolute() || base_dir.empty())
                       ? p.string()
                       : (std::filesystem::path(base_dir) / p).string();
-    if (!is_supported_mesh_file(o.file))
+    if (o.type == "mesh" && !is_supported_mesh_file(o.file))
         file.fail(
-            fmt::format("'{}': unsupported mesh format (use .obj, .ply, .off or .stl)", o.file));
+            fmt::format("'{}': unsupported mesh format (use .obj, .ply, .off or .stl, or \"type\": "
+                        "\"import\" for whole scenes)",
+                        o.file));
+    if (o.type == "import" && !is_importable_scene_file(o.file))
+        file.fail(
+            fmt::format("'{}': no importer reads '{}' files", o.file, lower_extension(o.file)));
+}
+
+void validate_import(const Reader& r, ObjectDesc& o, const std::string& base_dir,
+                     const std::vector<std::string>& material_names) {
+    validate_file(r, o, base_dir);
+    o.triangulate = true;
+    if (const auto m = r.optional("materials")) {
+        m->expect_object();
+        o.overrides_place = m->path();
+        for (const auto& [name, target] : m->members())
+            o.material_overrides.emplace_back(
+                name, static_cast<int>(target.one_of(material_names, "material")));
+    }
 }
 
 ObjectDesc validate_object(const Reader& r, int index,
@@ -233,7 +271,10 @@ ObjectDesc validate_object(const Reader& r, int index,
     r.expect_object();
     o.type = kObjectTypes[r.required("type").one_of(kObjectTypes, "type")];
     r.only_keys(object_keys(o.type), " for a " + o.type);
-    o.material = static_cast<int>(r.required("material").one_of(material_names, "material"));
+    if (o.type == "import" && !r.optional("material"))
+        o.material_given = false;
+    else
+        o.material = static_cast<int>(r.required("material").one_of(material_names, "material"));
     o.name = fmt::format("{}#{}", o.type, index);
     if (const auto n = r.optional("name")) o.name = n->string();
     if (const auto b = r.optional("two_sided")) o.two_sided = b->boolean();
@@ -248,8 +289,10 @@ ObjectDesc validate_object(const Reader& r, int index,
         validate_sphere(r, o);
     else if (o.type == "cylinder")
         validate_cylinder(r, o);
+    else if (o.type == "mesh")
+        validate_file(r, o, base_dir);
     else
-        validate_mesh(r, o, base_dir);
+        validate_import(r, o, base_dir, material_names);
     return o;
 }
 
@@ -332,30 +375,14 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
     if (const auto cams = r.optional("cameras")) d.cameras = validate_cameras(*cams);
     if (const auto s = r.optional("settings")) validate_settings(*s, d);
 
+    // (An imported file's materials are known only once it is read.)
     const bool any_emitter =
-        std::any_of(d.objects.begin(), d.objects.end(),
-                    [&](const ObjectDesc& o) { return d.materials[o.material].is_emitter(); });
+        std::any_of(d.objects.begin(), d.objects.end(), [&](const ObjectDesc& o) {
+            return !o.material_given || d.materials[o.material].is_emitter();
+        });
     if (!any_emitter) objs.fail("no emitter: no object uses a material with emission > 0");
     return d;
 }
-
-// ================================ stage 3: load =========================================
-
-std::vector<ImportedMesh> load_resources(const SceneDescription& d, const std::string& file) {
-    std::vector<ImportedMesh> meshes(d.objects.size());
-    for (size_t i = 0; i < d.objects.size(); ++i) {
-        const ObjectDesc& o = d.objects[i];
-        if (o.type != "mesh") continue;
-        try {
-            meshes[i] = import_mesh(o.file_path);
-        } catch (const Error& e) {
-            fail(file, o.place + ".file", e.what());
-        }
-    }
-    return meshes;
-}
-
-// ================================ stage 4: build ========================================
 
 // sin and cos of an angle in degrees, exact for multiples of 90 degrees so axis-aligned
 // rotations keep shared vertices and planes exact.
@@ -399,6 +426,93 @@ struct Transform {
     }
 };
 
+// ================================ stage 3: load =========================================
+
+// An import object becomes one object per material of its file (scene_import.hpp): the
+// file's materials join the scene's (or are overridden), its cameras join the scene's.
+void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imported,
+                   std::vector<ObjectDesc>& objects, std::vector<ImportedMesh>& meshes) {
+    std::set<std::string> used;
+    for (const auto& [name, target] : o.material_overrides) {
+        const bool known =
+            std::any_of(imported.groups.begin(), imported.groups.end(),
+                        [&](const ImportedGroup& g) { return g.material_name == name; });
+        if (!known) {
+            std::string names;
+            for (const ImportedGroup& g : imported.groups)
+                names += (names.empty() ? "'" : ", '") + g.material_name + "'";
+            throw SceneError(
+                fmt::format("{}: no material '{}' in '{}' (its materials with "
+                            "faces: {})",
+                            o.overrides_place, name, o.file, names));
+        }
+    }
+    for (ImportedGroup& g : imported.groups) {
+        ObjectDesc part = o;
+        std::string label = g.material_name;
+        for (int k = 2; !used.insert(label).second; ++k)
+            label = fmt::format("{}#{}", g.material_name, k);
+        part.name = o.name + "/" + label;
+        part.two_sided = o.two_sided || g.two_sided;
+        const auto over = std::find_if(o.material_overrides.begin(), o.material_overrides.end(),
+                                       [&](const auto& m) { return m.first == g.material_name; });
+        if (o.material_given) {
+            part.material = o.material;
+        } else if (over != o.material_overrides.end()) {
+            part.material = over->second;
+        } else {
+            g.material.name = part.name;
+            part.material = static_cast<int>(d.materials.size());
+            d.materials.push_back(g.material);
+            if (!g.unrepresented.empty()) {
+                std::string what;
+                for (const std::string& u : g.unrepresented) what += (what.empty() ? "" : "; ") + u;
+                d.notes.push_back(
+                    fmt::format("{}: material '{}': left out: {}", o.file, g.material_name, what));
+            }
+        }
+        objects.push_back(std::move(part));
+        meshes.push_back(std::move(g.mesh));
+    }
+    for (const std::string& l : imported.left_out)
+        d.notes.push_back(fmt::format("{}: left out: {}", o.file, l));
+    const Transform xf(o, Vec3(0.0));
+    for (Camera c : imported.cameras) {
+        const Vec3 up_tip = xf(c.eye + c.up);
+        c.eye = xf(c.eye);
+        c.look_at = xf(c.look_at);
+        c.up = up_tip - c.eye;
+        c.name = o.name + "/" + c.name;
+        d.cameras.push_back(c);
+    }
+}
+
+// Reads the mesh files and expands the imports; returns one mesh per (expanded) object.
+std::vector<ImportedMesh> load_resources(SceneDescription& d, const std::string& file) {
+    std::vector<ObjectDesc> objects;
+    std::vector<ImportedMesh> meshes;
+    for (size_t i = 0; i < d.objects.size(); ++i) {
+        ObjectDesc& o = d.objects[i];
+        o.source_object = static_cast<int>(i);
+        try {
+            if (o.type == "import") {
+                expand_import(d, o, import_scene_file(o.file_path), objects, meshes);
+                continue;
+            }
+            meshes.push_back(o.type == "mesh" ? import_mesh(o.file_path) : ImportedMesh{});
+            objects.push_back(std::move(o));
+        } catch (const SceneError& e) {
+            throw SceneError(fmt::format("{}: {}", file, e.what()));
+        } catch (const Error& e) {
+            fail(file, o.place + ".file", e.what());
+        }
+    }
+    d.objects = std::move(objects);
+    return meshes;
+}
+
+// ================================ stage 4: build ========================================
+
 // The untransformed faces of an object and the pivot its transform acts about.
 std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, Vec3& pivot) {
     pivot = Vec3(0.0);
@@ -432,9 +546,16 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
                              const std::string& problem) {
     // problem reads "polygon is ..." / "polygon has ..."
     const std::string rest = problem.rfind("polygon ", 0) == 0 ? problem.substr(8) : problem;
-    if (o.type == "polygon") fail(file, o.place + ".vertices", problem);
-    const std::string what = o.type == "mesh" ? fmt::format("mesh {}", o.file) : o.type;
-    fail(file, fmt::format("{} ({})", o.place, what), fmt::format("face {} {}", face, rest));
+    // Non-planar and degenerate faces are what triangulation repairs.
+    const bool repairable = !o.triangulate && (o.type == "polygon" || o.type == "mesh") &&
+                            problem.find("crosses itself") == std::string::npos;
+    const std::string hint = repairable ? " (\"triangulate\": true repairs it)" : "";
+    if (o.type == "polygon") fail(file, o.place + ".vertices", problem + hint);
+    const std::string what =
+        o.file.empty() ? o.type
+                       : fmt::format("{} {}", o.type == "mesh" ? "mesh" : "import", o.file);
+    fail(file, fmt::format("{} ({})", o.place, what),
+         fmt::format("face {} {}{}", face, rest, hint));
 }
 
 // Every object's shape in user units, transformed; `diameter` is the diagonal of their
@@ -461,21 +582,57 @@ std::vector<std::vector<Polygon>> transformed_shapes(const SceneDescription& d,
 // An object's checked convex planar faces (triangulated when asked), oriented, doubled
 // when two-sided.
 std::vector<Polygon> checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw, double tol,
-                                   const std::string& file) {
+                                   const std::string& file, std::vector<std::string>& notes) {
     std::vector<Polygon> out;
+    // Imports are repaired, never refused for a face: what changed is counted.
+    const bool imported = o.type == "import";
+    size_t crossing = 0, degenerate = 0, non_planar = 0, duplicate = 0;
+    // An imported face that repeats another of the object (the same vertices in the same
+    // cyclic order: the same side) is a modelling defect that would z-fight; it is dropped.
+    std::set<std::vector<std::array<double, 3>>> seen;
+    auto repeats = [&](const Polygon& t) {
+        std::vector<std::array<double, 3>> key;
+        for (const Vec3& x : t) key.push_back({x.x, x.y, x.z});
+        std::rotate(key.begin(), std::min_element(key.begin(), key.end()), key.end());
+        return !seen.insert(std::move(key)).second;
+    };
     for (size_t k = 0; k < raw.size(); ++k) {
         const Polygon& p = raw[k];
         if (o.triangulate) {
             auto tris = triangulate_polygon(p, tol, tol);
-            if (!tris)
+            if (!tris && !imported)
                 face_error(file, o, k,
                            "polygon cannot be triangulated (its outline crosses itself)");
-            out.insert(out.end(), tris->begin(), tris->end());
+            if (!tris) {
+                ++crossing;
+                continue;
+            }
+            if (imported && p.size() > 3)
+                if (const auto problem = polygon_problem(p, tol, tol);
+                    problem && problem->find("not planar") != std::string::npos)
+                    ++non_planar;
+            degenerate += p.size() - 2 - tris->size();
+            for (Polygon& t : *tris) {
+                if (imported && repeats(t))
+                    ++duplicate;
+                else
+                    out.push_back(std::move(t));
+            }
         } else {
             if (auto problem = polygon_problem(p, tol, tol)) face_error(file, o, k, *problem);
             out.push_back(p);
         }
     }
+    std::string changed;
+    auto count = [&](size_t n, const char* what) {
+        if (n) changed += fmt::format("{}{} {}", changed.empty() ? "" : ", ", n, what);
+    };
+    count(crossing, "self-crossing face(s) dropped");
+    count(degenerate, "zero-area triangle(s) dropped");
+    count(non_planar, "non-planar face(s) split into triangles");
+    count(duplicate, "repeated triangle(s) dropped (the same vertices as another face)");
+    if (!changed.empty())
+        notes.push_back(fmt::format("{}: {} ({}): {}", file, o.place, o.name, changed));
     if (o.flip)
         for (Polygon& p : out) std::reverse(p.begin(), p.end());
     if (o.two_sided) {
@@ -549,6 +706,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     scene.units = d.units;
     scene.materials = d.materials;
     scene.cameras = d.cameras;
+    scene.load_notes = d.notes;
 
     double diameter = 0;
     const std::vector<std::vector<Polygon>> raw = transformed_shapes(d, meshes, diameter);
@@ -557,7 +715,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     const double tol = kRelativeTolerance * diameter;
     std::vector<std::vector<Polygon>> faces(d.objects.size());
     for (size_t i = 0; i < d.objects.size(); ++i)
-        faces[i] = checked_faces(d.objects[i], raw[i], tol, file);
+        faces[i] = checked_faces(d.objects[i], raw[i], tol, file, scene.load_notes);
 
     const double half_diagonal = normalise(scene, faces, file);
     add_objects(scene, d, faces);
@@ -635,6 +793,15 @@ Scene load_scene_from_string(const std::string& json_text, const std::string& na
 
 Scene load_scene(const std::string& path, const LoadOptions& options) {
     check_options(options);
+    if (lower_extension(path) != ".json" && is_importable_scene_file(path)) {
+        // A model file on its own: one import object, its materials and cameras as they are.
+        const std::filesystem::path p(path);
+        const Json root = {{"materials", Json::object()},
+                           {"objects", Json::array({{{"type", "import"},
+                                                     {"name", p.stem().string()},
+                                                     {"file", p.filename().string()}}})}};
+        return load_tree(root, path, p.parent_path().string(), options);
+    }
     const Json root = parse_scene([&] { return read_json_file<Json>(path); });
     const std::string base_dir = std::filesystem::path(path).parent_path().string();
     return load_tree(root, path, base_dir, options);

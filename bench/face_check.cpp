@@ -1,0 +1,73 @@
+// face_check.cpp — every face of one object of a bake against the path tracer, face by face
+// (face_probe.hpp): how many are darker than half the reference, and the distribution of
+// the ratio. Usage:
+//   vlf_face_check BAKE.vlf OBJECT [SPP_PER_BATCH [BATCHES [MODE]]]
+// OBJECT is an object's name in the scene file; MODE texture (default) or rays.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "vlf/bake/bake.hpp"
+#include "vlf/core/error.hpp"
+#include "vlf/render/face_probe.hpp"
+#include "vlf/render/render.hpp"
+
+int main(int argc, char** argv) try {
+    if (argc < 3 || argc > 6) {
+        std::fprintf(stderr, "usage: %s BAKE.vlf OBJECT [SPP_PER_BATCH [BATCHES [MODE]]]\n",
+                     argv[0]);
+        return 2;
+    }
+    const vlf::Bake bake = vlf::read_bake(argv[1]);
+    const std::string name = argv[2];
+    const int spp = argc > 3 ? std::atoi(argv[3]) : 256;
+    const int batches = argc > 4 ? std::atoi(argv[4]) : 4;
+    const vlf::RenderMode mode =
+        vlf::render_mode_from_string(argc > 5 ? std::string(argv[5]) : "texture");
+    std::vector<int> faces;
+    for (const vlf::SceneObject& o : bake.scene.objects)
+        if (o.name == name)
+            for (int f = o.first_face; f < o.first_face + o.face_count; ++f) faces.push_back(f);
+    if (faces.empty()) {
+        std::fprintf(stderr, "%s: no object named '%s' with faces\n", argv[1], name.c_str());
+        return 2;
+    }
+    const vlf::Renderer renderer(bake);
+    const std::vector<vlf::FaceProbe> probes =
+        vlf::probe_faces(renderer, faces, mode, spp, batches);
+    std::vector<double> ratio;
+    for (const vlf::FaceProbe& p : probes)
+        if (p.reference > 0.0) ratio.push_back(p.value / p.reference);
+    std::sort(ratio.begin(), ratio.end());
+    auto q = [&](double f) { return ratio.empty() ? 0.0 : ratio[size_t(f * (ratio.size() - 1))]; };
+    const auto dark = vlf::darker_than(probes, 0.5, 3.0);
+    const auto dark_raw = vlf::darker_than(probes, 0.5, 0.0);
+    std::printf("%s: %zu faces, %d x %d paths each\n", name.c_str(), faces.size(), batches, spp);
+    std::printf(
+        "ratio bake/path tracer: min %.3f  1%% %.3f  10%% %.3f  median %.3f  90%% %.3f  "
+        "99%% %.3f  max %.3f\n",
+        q(0), q(0.01), q(0.1), q(0.5), q(0.9), q(0.99), q(1));
+    std::printf("darker than half: %zu (%zu beyond 3 standard errors)\n", dark_raw.size(),
+                dark.size());
+    std::vector<vlf::FaceProbe> worst = dark;
+    std::sort(worst.begin(), worst.end(), [](const auto& a, const auto& b) {
+        return a.value / std::max(a.reference, 1e-300) < b.value / std::max(b.reference, 1e-300);
+    });
+    const vlf::Scene& scene = renderer.bake().scene;
+    for (size_t i = 0; i < std::min<size_t>(worst.size(), 10); ++i) {
+        const vlf::Face& f = scene.faces[size_t(worst[i].face)];
+        const vlf::Chart& c = scene.chart_of(f);
+        std::printf(
+            "  face %d: %.4g vs %.4g +- %.2g  (normal %.3f %.3f %.3f; chart %d of %zu "
+            "faces, %d x %d texels, normal %.3f %.3f %.3f)\n",
+            worst[i].face, worst[i].value, worst[i].reference, worst[i].std_error, f.normal.x,
+            f.normal.y, f.normal.z, c.id, c.faces.size(), c.texels.width, c.texels.height,
+            c.normal.x, c.normal.y, c.normal.z);
+    }
+    return 0;
+} catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+}

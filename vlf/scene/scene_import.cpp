@@ -1,0 +1,377 @@
+// scene_import.cpp — assimp scenes to material groups, cameras and a list of what was left
+// out (scene_import.hpp).
+//
+// Material mapping (VLF surfaces are Lambertian diffuse + ideal mirror + Lambertian
+// emitter, DESIGN §3):
+//   OBJ/MTL   Kd -> diffuse; illum 3 or 5 (reflection on) -> Ks as the mirror's reflectance,
+//             else Ks is a Phong highlight and left out; Ke -> emission (radiance).
+//   glTF      baseColor x (1 - metallic) -> diffuse; metallic 1 and roughness 0 -> mirror of
+//             reflectance baseColor; emissive x KHR_materials_emissive_strength -> emission;
+//             transmission and ior are listed as left out (dielectrics: issue 14).
+//   others    the diffuse and emissive colours; a reflective colour with reflectivity > 0
+//             -> mirror.
+// A diffuse colour texture (map_Kd, the base-colour texture) multiplies the diffuse colour
+// by its mean linear colour (sRGB decoded); the texture itself is listed as left out.
+// Where diffuse + specular exceeds 1 in a channel both are scaled down to sum to 1.
+#include "vlf/scene/scene_import.hpp"
+
+#include <assimp/GltfMaterial.h>
+#include <assimp/ObjMaterial.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/core.h>
+#include <stb_image.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+
+#include "vlf/core/error.hpp"
+#include "vlf/core/files.hpp"
+
+namespace vlf {
+
+namespace {
+
+Rgb to_rgb(const aiColor4D& c) {
+    return {c.r, c.g, c.b};
+}
+
+double srgb_to_linear(double c) {
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+// The mean linear colour of a texture (file next to the model, or embedded), or nullopt
+// when it cannot be read.
+std::optional<Rgb> texture_mean(const aiScene& scene, const std::string& model_dir,
+                                const std::string& name) {
+    int w = 0, h = 0, n = 0;
+    unsigned char* pixels = nullptr;
+    if (const aiTexture* t = scene.GetEmbeddedTexture(name.c_str())) {
+        if (t->mHeight == 0)  // compressed (PNG, JPEG) in mWidth bytes
+            pixels = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(t->pcData),
+                                           int(t->mWidth), &w, &h, &n, 3);
+        else {  // raw BGRA texels
+            Rgb sum(0.0);
+            const size_t count = size_t(t->mWidth) * t->mHeight;
+            for (size_t i = 0; i < count; ++i) {
+                const aiTexel& p = t->pcData[i];
+                sum += Rgb(srgb_to_linear(p.r / 255.0), srgb_to_linear(p.g / 255.0),
+                           srgb_to_linear(p.b / 255.0));
+            }
+            return count ? std::optional<Rgb>(sum / double(count)) : std::nullopt;
+        }
+    } else {
+        std::string file = name;
+        std::replace(file.begin(), file.end(), '\\', '/');
+        const std::filesystem::path p = std::filesystem::path(model_dir) / file;
+        pixels = stbi_load(p.string().c_str(), &w, &h, &n, 3);
+    }
+    if (!pixels) return std::nullopt;
+    // Decode each 8-bit value once.
+    double lut[256];
+    for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(i / 255.0);
+    Rgb sum(0.0);
+    const size_t count = size_t(w) * size_t(h);
+    for (size_t i = 0; i < count; ++i)
+        sum += Rgb(lut[pixels[3 * i]], lut[pixels[3 * i + 1]], lut[pixels[3 * i + 2]]);
+    stbi_image_free(pixels);
+    return count ? std::optional<Rgb>(sum / double(count)) : std::nullopt;
+}
+
+bool is_gltf(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    return ext == ".gltf" || ext == ".glb";
+}
+
+std::string rgb_text(const Rgb& c) {
+    return fmt::format("[{:.3g}, {:.3g}, {:.3g}]", c.x, c.y, c.z);
+}
+
+// Maps one assimp material (see the table at the top of the file).
+void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const std::string& dir,
+                  ImportedGroup& g) {
+    aiColor4D c;
+    float x = 0.0f;
+    int i = 0;
+    auto note = [&](std::string s) { g.unrepresented.push_back(std::move(s)); };
+    Material& out = g.material;
+    out.name = g.material_name;
+
+    Rgb base(0.0);
+    double metallic = 0.0, roughness = 1.0;
+    if (gltf) {
+        if (m.Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS)
+            base = to_rgb(c);
+        else if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS)
+            base = to_rgb(c);
+        else
+            base = Rgb(1.0);  // glTF's default base colour
+        metallic = m.Get(AI_MATKEY_METALLIC_FACTOR, x) == AI_SUCCESS ? x : 1.0;
+        roughness = m.Get(AI_MATKEY_ROUGHNESS_FACTOR, x) == AI_SUCCESS ? x : 1.0;
+    } else if (m.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
+        base = to_rgb(c);
+    }
+
+    // A diffuse colour texture: its mean colour.
+    aiString tex;
+    const bool has_texture =
+        (gltf && m.GetTexture(aiTextureType_BASE_COLOR, 0, &tex) == AI_SUCCESS) ||
+        m.GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS;
+    if (has_texture) {
+        if (const auto mean = texture_mean(scene, dir, tex.C_Str())) {
+            base *= *mean;
+            note(fmt::format("diffuse texture '{}' (used as its mean colour {})", tex.C_Str(),
+                             rgb_text(*mean)));
+        } else {
+            note(fmt::format("diffuse texture '{}' (cannot be read; the colour alone is used)",
+                             tex.C_Str()));
+        }
+    }
+
+    if (gltf) {
+        const bool mirror = metallic >= 1.0 && roughness <= 0.0;
+        if (mirror) {
+            out.specular = base;
+        } else {
+            out.diffuse = base * (1.0 - std::clamp(metallic, 0.0, 1.0));
+            if (metallic > 0.0)
+                note(
+                    fmt::format("metallic {:.3g} with roughness {:.3g} (only metallic 1 with "
+                                "roughness 0 is a mirror; the rest is diffuse)",
+                                metallic, roughness));
+        }
+        if (m.Get(AI_MATKEY_TRANSMISSION_FACTOR, x) == AI_SUCCESS && x > 0.0f) {
+            float ior = 1.5f;
+            m.Get(AI_MATKEY_REFRACTI, ior);
+            note(fmt::format("transmission {:.3g}, ior {:.3g} (no dielectrics yet)", x, ior));
+        }
+    } else {
+        out.diffuse = base;
+        Rgb ks(0.0);
+        if (m.Get(AI_MATKEY_COLOR_SPECULAR, c) == AI_SUCCESS) ks = to_rgb(c);
+        const bool has_illum = m.Get(AI_MATKEY_OBJ_ILLUM, i) == AI_SUCCESS;
+        Rgb reflective(0.0);
+        float reflectivity = 0.0f;
+        if (m.Get(AI_MATKEY_COLOR_REFLECTIVE, c) == AI_SUCCESS) reflective = to_rgb(c);
+        m.Get(AI_MATKEY_REFLECTIVITY, reflectivity);
+        if (has_illum && (i == 3 || i == 5)) {
+            out.specular = ks;  // MTL: reflection on, Ks is the mirror's reflectance
+        } else if (!has_illum && reflectivity > 0.0f && reflective != Rgb(0.0)) {
+            out.specular = reflective * double(reflectivity);
+        } else if (ks != Rgb(0.0) && !(has_illum && i < 2)) {
+            note(fmt::format("a Phong highlight Ks = {} (only ideal mirrors: illum 3 or 5)",
+                             rgb_text(ks)));
+        }
+        if (has_illum && (i == 4 || i == 6 || i == 7 || i == 9))
+            note(fmt::format("illum {} (glass: no dielectrics yet)", i));
+    }
+
+    Rgb emission(0.0);
+    if (m.Get(AI_MATKEY_COLOR_EMISSIVE, c) == AI_SUCCESS) emission = to_rgb(c);
+    if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, x) == AI_SUCCESS) emission *= double(x);
+    aiString etex;
+    if (m.GetTexture(aiTextureType_EMISSIVE, 0, &etex) == AI_SUCCESS)
+        note(
+            fmt::format("emissive texture '{}' (the emissive colour alone is used)", etex.C_Str()));
+    out.emission = emission;
+
+    for (int ch = 0; ch < 3; ++ch) {
+        out.diffuse[ch] = std::clamp(out.diffuse[ch], 0.0, 1.0);
+        out.specular[ch] = std::clamp(out.specular[ch], 0.0, 1.0);
+        out.emission[ch] = std::max(out.emission[ch], 0.0);
+    }
+    const double worst = std::max({(out.diffuse + out.specular).x, (out.diffuse + out.specular).y,
+                                   (out.diffuse + out.specular).z});
+    if (worst > 1.0) {
+        note(fmt::format("diffuse + mirror reflectance {:.3g} > 1 (both scaled by {:.3g})", worst,
+                         1.0 / worst));
+        out.diffuse /= worst;
+        out.specular /= worst;
+    }
+    int two = 0;
+    if (m.Get(AI_MATKEY_TWOSIDED, two) == AI_SUCCESS) g.two_sided = two != 0;
+}
+
+// OBJ text is checked line by line for vertex coordinates that are not finite numbers in
+// single precision (the readers parse floats and drop or shift such vertices).
+void check_obj_vertices(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    for (size_t number = 1; std::getline(in, line); ++number) {
+        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+        const char* s = line.c_str() + 1;
+        for (int k = 0; k < 3; ++k) {
+            while (*s == ' ' || *s == '\t') ++s;
+            char* end = nullptr;
+            const double v = std::strtod(s, &end);
+            if (end == s)
+                throw Error(fmt::format("{}:{}: vertex has {} coordinate{} (needs 3 numbers)", path,
+                                        number, k, k == 1 ? "" : "s"));
+            if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max())
+                throw Error(fmt::format("{}:{}: vertex coordinate '{}' is not a finite number",
+                                        path, number, std::string(s, size_t(end - s))));
+            s = end;
+        }
+    }
+}
+
+aiMatrix4x4 global_transform(const aiNode* node) {
+    aiMatrix4x4 m;
+    for (; node; node = node->mParent) m = node->mTransformation * m;
+    return m;
+}
+
+Vec3 to_vec(const aiVector3D& v) {
+    return {v.x, v.y, v.z};
+}
+
+struct Collector {
+    const aiScene& scene;
+    const std::string& path;
+    std::vector<ImportedGroup>& groups;
+    size_t skipped_primitives = 0;
+
+    void add_mesh(const aiMesh& mesh, const aiMatrix4x4& xf) {
+        if (!(mesh.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON))) {
+            ++skipped_primitives;
+            return;
+        }
+        ImportedMesh& out = groups[mesh.mMaterialIndex].mesh;
+        const int base = int(out.vertices.size());
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            const aiVector3D p = xf * mesh.mVertices[v];
+            const Vec3 q = to_vec(p);
+            if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+                throw Error(fmt::format("{}: mesh '{}': vertex {} is not finite", path,
+                                        mesh.mName.C_Str(), v));
+            out.vertices.push_back(q);
+        }
+        // A mirroring transform turns the winding: reverse it so the front stays the front.
+        const bool mirrored = xf.Determinant() < 0;
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+            const aiFace& face = mesh.mFaces[f];
+            if (face.mNumIndices < 3) continue;  // points and lines of a mixed mesh
+            std::vector<int> idx(face.mNumIndices);
+            for (unsigned k = 0; k < face.mNumIndices; ++k) idx[k] = base + int(face.mIndices[k]);
+            if (mirrored) std::reverse(idx.begin(), idx.end());
+            out.faces.push_back(std::move(idx));
+        }
+    }
+
+    void visit(const aiNode* node, const aiMatrix4x4& parent) {
+        const aiMatrix4x4 xf = parent * node->mTransformation;
+        for (unsigned k = 0; k < node->mNumMeshes; ++k)
+            add_mesh(*scene.mMeshes[node->mMeshes[k]], xf);
+        for (unsigned k = 0; k < node->mNumChildren; ++k) visit(node->mChildren[k], xf);
+    }
+};
+
+std::vector<Camera> cameras_of(const aiScene& scene) {
+    std::vector<Camera> out;
+    for (unsigned k = 0; k < scene.mNumCameras; ++k) {
+        const aiCamera& c = *scene.mCameras[k];
+        const aiMatrix4x4 xf = global_transform(scene.mRootNode->FindNode(c.mName));
+        aiMatrix3x3 rot(xf);
+        Camera cam;
+        cam.name = c.mName.length ? c.mName.C_Str() : fmt::format("camera#{}", k);
+        cam.eye = to_vec(xf * c.mPosition);
+        cam.look_at = to_vec(xf * (c.mPosition + c.mLookAt));
+        cam.up = glm::normalize(to_vec(rot * c.mUp));
+        // mHorizontalFOV is half the horizontal angle; VLF cameras give the vertical one.
+        const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
+        const double half_v = std::atan(std::tan(double(c.mHorizontalFOV)) / aspect);
+        cam.fov_y_deg = 2.0 * half_v * 180.0 / kPi;
+        if (c.mHorizontalFOV > 0 && cam.fov_y_deg > 0 && cam.fov_y_deg < 180 &&
+            glm::length(cam.look_at - cam.eye) > 0)
+            out.push_back(cam);
+    }
+    return out;
+}
+
+const char* light_kind(aiLightSourceType t) {
+    switch (t) {
+        case aiLightSource_DIRECTIONAL:
+            return "directional";
+        case aiLightSource_POINT:
+            return "point";
+        case aiLightSource_SPOT:
+            return "spot";
+        case aiLightSource_AMBIENT:
+            return "ambient";
+        case aiLightSource_AREA:
+            return "area";
+        default:
+            return "undefined";
+    }
+}
+
+}  // namespace
+
+bool is_importable_scene_file(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext.empty()) return false;
+    Assimp::Importer importer;
+    return importer.IsExtensionSupported(ext);
+}
+
+ImportedScene import_scene_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(fmt::format("'{}' is a directory, not a scene file", path));
+    if (!std::filesystem::exists(path, ec))
+        throw Error(fmt::format("scene file '{}' does not exist", path));
+    if (!std::ifstream(path).good())
+        throw Error(fmt::format("scene file '{}' cannot be read", path));
+    if (!is_importable_scene_file(path))
+        throw Error(fmt::format("'{}': no importer reads '{}' files", path, lower_extension(path)));
+    if (lower_extension(path) == ".obj") check_obj_vertices(path);
+
+    Assimp::Importer importer;
+    // Points and lines come out as meshes of their own; identical vertices are joined so
+    // faces share edges (charts.hpp keys edges by their end points).
+    const unsigned flags =
+        aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+    const aiScene* scene = importer.ReadFile(path, flags);
+    if (!scene || !scene->mRootNode)
+        throw Error(fmt::format("'{}' could not be read: {}", path, importer.GetErrorString()));
+    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+        throw Error(fmt::format("'{}' is incomplete (assimp could not read all of it)", path));
+
+    ImportedScene out;
+    const std::string dir = std::filesystem::path(path).parent_path().string();
+    std::vector<ImportedGroup> groups(scene->mNumMaterials);
+    for (unsigned k = 0; k < scene->mNumMaterials; ++k) {
+        const aiMaterial& m = *scene->mMaterials[k];
+        aiString name;
+        groups[k].material_name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length
+                                      ? name.C_Str()
+                                      : fmt::format("material#{}", k);
+        map_material(*scene, m, is_gltf(path), dir, groups[k]);
+    }
+    Collector collect{*scene, path, groups};
+    collect.visit(scene->mRootNode, aiMatrix4x4());
+    // Materials of one name (assimp's default material, repeated names) stay apart: the
+    // caller names them "<name>", "<name>#2", ...
+    for (ImportedGroup& g : groups)
+        if (!g.mesh.faces.empty()) out.groups.push_back(std::move(g));
+    if (out.groups.empty()) throw Error(fmt::format("'{}' has no faces", path));
+
+    if (collect.skipped_primitives)
+        out.left_out.push_back(
+            fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
+    out.cameras = cameras_of(*scene);
+    for (unsigned k = 0; k < scene->mNumLights; ++k) {
+        const aiLight& l = *scene->mLights[k];
+        out.left_out.push_back(fmt::format("light '{}' ({}): only emissive surfaces emit",
+                                           l.mName.C_Str(), light_kind(l.mType)));
+    }
+    return out;
+}
+
+}  // namespace vlf

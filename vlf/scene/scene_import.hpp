@@ -1,0 +1,44 @@
+// scene_import.hpp — whole scenes from modelling tools' files (OBJ+MTL, glTF 2.0 / GLB, PLY,
+// FBX, COLLADA, ...) through assimp (issue 12). Geometry comes out in file units with the
+// file's node transforms applied (instances repeated), grouped by material; materials are
+// mapped onto VLF's (diffuse, ideal mirror, Lambertian emitter) and whatever cannot be
+// represented is listed per material so the caller reports it once. The scene loader turns
+// the groups into objects (scene_loader.cpp, object type "import").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vlf/core/math.hpp"
+#include "vlf/scene/mesh_import.hpp"
+#include "vlf/scene/scene.hpp"
+
+namespace vlf {
+
+// One material of the file with the faces that use it.
+struct ImportedGroup {
+    std::string material_name;  // the file's name ("material#<i>" when it has none)
+    Material material;          // mapped (material_mapping in scene_import.cpp)
+    bool two_sided = false;     // the file marks the material double-sided
+    // What the mapping could not represent, one phrase each ("a Phong highlight Ks = ...").
+    std::vector<std::string> unrepresented;
+    ImportedMesh mesh;  // file units, node transforms applied; faces as in the file
+};
+
+struct ImportedScene {
+    std::vector<ImportedGroup> groups;  // in the file's material order; empty groups left out
+    std::vector<Camera> cameras;        // file units, node transforms applied
+    // Things of the file left out, one phrase each ("2 meshes of points or lines",
+    // "light 'Sun' (directional): VLF has no directional lights yet").
+    std::vector<std::string> left_out;
+};
+
+// True when assimp has a reader for the file's extension.
+bool is_importable_scene_file(const std::string& path);
+
+// Reads a scene file. Throws vlf::Error naming the file and the place: missing or
+// unreadable file, unsupported format, assimp's parse error, a non-finite or out-of-range
+// vertex (an OBJ's by line number), a file without faces.
+ImportedScene import_scene_file(const std::string& path);
+
+}  // namespace vlf
