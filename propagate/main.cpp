@@ -73,6 +73,10 @@ int run(Options o, const CLI::App& app) {
     p.deferred = !o.no_deferred;
     p.resample = !o.no_resample;
     vlf::validate(p);
+    if (app.count("--texel-size") > 0 && !(o.params.texel_size > 0))
+        throw vlf::ParameterError(
+            fmt::format("--texel-size: {} must be a positive length (leave it out for the default)",
+                        o.params.texel_size));
     if (!o.dry_run && !o.validate_only && o.output.empty())
         throw vlf::ParameterError("-o/--output: required unless --dry-run or --validate is given");
     if (!o.output.empty()) vlf::check_output_path(o.output);

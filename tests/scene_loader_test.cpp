@@ -479,7 +479,7 @@ TEST(SceneBadInput, UnknownObjectKey) {
         "bad.json: objects[1].radius: unknown key for a box");
     expect_error(with_objects(kLamp + R"(, {"type": "cone", "material": "white"})"),
                  "bad.json: objects[1].type: unknown type 'cone' (known: polygon, box, sphere, "
-                 "cylinder, mesh)");
+                 "cylinder, mesh, import)");
 }
 
 TEST(SceneBadInput, UnknownMaterialKey) {

@@ -68,7 +68,7 @@ struct Options {
     std::string bake, camera, mode = "texture", output, path;
     std::string format = "png", reference;
     std::array<double, 3> eye{}, look_at{}, up{};  // with has_*: given on the command line
-    bool has_eye = false, has_look_at = false, has_up = false;
+    bool has_eye = false, has_look_at = false, has_up = false, has_fov = false;
     std::pair<int, int> size{512, 512};
     double fov = 0.0, exposure = 0.0;
     int spp = 64, threads = 0, max_depth = 16, pixel_samples = 1;
@@ -79,7 +79,7 @@ struct Options {
 // The camera the options ask for: --camera NAME, or --eye/--look-at[/--up/--fov] on top of
 // the scene's first camera (or defaults), or the scene's first camera.
 vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
-    const bool explicit_view = o.has_eye || o.has_look_at || o.has_up || o.fov != 0.0;
+    const bool explicit_view = o.has_eye || o.has_look_at || o.has_up || o.has_fov;
     if (!o.camera.empty()) {
         if (explicit_view)
             throw vlf::ParameterError(
@@ -105,7 +105,7 @@ vlf::Camera choose_camera(const Options& o, const vlf::Scene& scene) {
         if (o.has_eye) cam.eye = vec(o.eye);
         if (o.has_look_at) cam.look_at = vec(o.look_at);
         if (o.has_up) cam.up = vec(o.up);
-        if (o.fov != 0.0) cam.fov_y_deg = o.fov;
+        if (o.has_fov) cam.fov_y_deg = o.fov;
     }
     vlf::validate_camera(cam, "camera");
     return cam;
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
     CLI::Option* look_at =
         add_vec3(app, "--look-at", o.look_at, "Point looked at x,y,z (scene units)");
     CLI::Option* up = add_vec3(app, "--up", o.up, "Up vector x,y,z");
-    app.add_option("--fov", o.fov, "Vertical field of view, degrees");
+    CLI::Option* fov = app.add_option("--fov", o.fov, "Vertical field of view, degrees");
     app.add_option("--size", o.size, "Image size WxH, e.g. 640x480")
         ->delimiter('x')
         ->check(kImageSide)
@@ -282,6 +282,7 @@ int main(int argc, char** argv) {
         o.has_eye = eye->count() > 0;
         o.has_look_at = look_at->count() > 0;
         o.has_up = up->count() > 0;
+        o.has_fov = fov->count() > 0;
         return run(o);
     });
 }

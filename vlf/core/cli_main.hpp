@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "vlf/core/error.hpp"
 
@@ -20,7 +21,11 @@ int cli_main(CLI::App& app, int argc, char** argv, const char* program, Run&& ru
         std::fputs(app.help().c_str(), stdout);
         return 0;
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "%s: %s\n", program, e.what());
+        // CLI11 words an option given twice as "At Most 1 required but received 2".
+        std::string what = e.what();
+        const size_t at = what.find("At Most 1 required but received");
+        if (at != std::string::npos) what = what.substr(0, at) + "given more than once";
+        std::fprintf(stderr, "%s: %s\n", program, what.c_str());
         return 2;
     }
     try {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -177,6 +178,10 @@ Json parse_json(const std::string& text, const std::string& file) {
 
 template <class Json>
 Json read_json_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        fail_at(path, "(file)", "is a directory, not a file");
+    if (!std::filesystem::exists(path, ec)) fail_at(path, "(file)", "does not exist");
     std::ifstream in(path, std::ios::binary);
     if (!in) fail_at(path, "(file)", "cannot be opened");
     std::ostringstream text;

@@ -42,6 +42,9 @@ std::optional<std::string> camera_problem(const Camera& c) {
         return "non-finite camera value";
     const Vec3 f = c.look_at - c.eye;
     if (glm::length(f) <= 0.0) return "eye and look_at coincide";
+    if (!std::isfinite(glm::length(f)) || !std::isfinite(glm::length(c.eye)) ||
+        !std::isfinite(glm::length(c.up)))
+        return "eye, look_at or up out of range (their lengths overflow a double)";
     if (glm::length(c.up) <= 0.0) return "up is the zero vector";
     if (glm::length(glm::cross(glm::normalize(f), glm::normalize(c.up))) < 1e-9)
         return "up is parallel to the view direction";

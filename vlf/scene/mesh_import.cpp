@@ -11,9 +11,11 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <mutex>
 #include <sstream>
 
@@ -58,6 +60,50 @@ std::mutex g_openmesh_mutex;  // omerr() and std::cerr are process-global
 
 }  // namespace
 
+// OBJ text, line by line: every vertex has three coordinates that are finite in single
+// precision (the readers parse floats and drop, or shift the indices past, such vertices),
+// and with `faces`, every face has at least 3 vertices and no repeated index (OpenMesh
+// drops such faces without a word).
+void check_obj_text(const std::string& path, bool faces) {
+    std::ifstream in(path);
+    std::string line;
+    long vertices = 0;
+    for (size_t number = 1; std::getline(in, line); ++number) {
+        if (line.size() < 2 || (line[1] != ' ' && line[1] != '\t')) continue;
+        if (line[0] == 'v') {
+            ++vertices;
+            const char* s = line.c_str() + 1;
+            for (int k = 0; k < 3; ++k) {
+                while (*s == ' ' || *s == '\t') ++s;
+                char* end = nullptr;
+                const double v = std::strtod(s, &end);
+                if (end == s)
+                    throw Error(fmt::format("{}:{}: vertex has {} coordinate{} (needs 3 numbers)",
+                                            path, number, k, k == 1 ? "" : "s"));
+                if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max())
+                    throw Error(fmt::format("{}:{}: vertex coordinate '{}' is not a finite number",
+                                            path, number, std::string(s, size_t(end - s))));
+                s = end;
+            }
+        } else if (line[0] == 'f' && faces) {
+            std::istringstream words(line.substr(2));
+            std::vector<long> idx;
+            for (std::string w; words >> w;) {
+                if (w[0] == '#') break;
+                const long i = std::strtol(w.c_str(), nullptr, 10);
+                idx.push_back(i < 0 ? vertices + 1 + i : i);  // 1-based; negative: relative
+            }
+            if (idx.size() < 3)
+                throw Error(fmt::format("{}:{}: face has {} vertex index(es) (needs at least 3)",
+                                        path, number, idx.size()));
+            std::vector<long> sorted = idx;
+            std::sort(sorted.begin(), sorted.end());
+            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+                throw Error(fmt::format("{}:{}: face repeats a vertex index", path, number));
+        }
+    }
+}
+
 bool is_supported_mesh_file(const std::string& path) {
     const std::string ext = lower_extension(path);
     return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
@@ -65,6 +111,8 @@ bool is_supported_mesh_file(const std::string& path) {
 
 ImportedMesh import_mesh(const std::string& path) {
     std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(fmt::format("mesh file '{}' is a directory, not a file", path));
     if (!std::filesystem::is_regular_file(path, ec))
         throw Error(fmt::format("mesh file '{}' does not exist", path));
     if (!std::ifstream(path).good())
@@ -72,6 +120,8 @@ ImportedMesh import_mesh(const std::string& path) {
     if (!is_supported_mesh_file(path))
         throw Error(fmt::format(
             "mesh file '{}' has an unsupported extension (use .obj, .ply, .off or .stl)", path));
+
+    if (lower_extension(path) == ".obj") check_obj_text(path, true);
 
     ReadMesh mesh;
     std::string log;

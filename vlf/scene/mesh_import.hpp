@@ -15,6 +15,11 @@ struct ImportedMesh {
     std::vector<std::vector<int>> faces;  // vertex indices in the file's order (front = CCW)
 };
 
+// Checks an OBJ file's text (mesh_import.cpp): vertex coordinates must be finite numbers in
+// single precision; with `faces`, faces need 3 or more distinct vertex indices. Throws
+// vlf::Error "<path>:<line>: <what>".
+void check_obj_text(const std::string& path, bool faces);
+
 // True when the file name ends in a supported extension (.obj .ply .off .stl, any case).
 bool is_supported_mesh_file(const std::string& path);
 

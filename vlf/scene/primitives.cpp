@@ -208,8 +208,15 @@ std::optional<std::vector<Polygon>> triangulate_polygon(const Polygon& p, double
     if (m < 3) return out;
     const Vec3 nv = newell_vector(p);
     const double len = glm::length(nv);
-    if (!(len > 0) || max_plane_deviation(p) > planar_tolerance) {
-        // Non-planar (or zero net area): a fan from vertex 0, as documented.
+    if (!(len > 0)) {
+        // Zero net area: collinear points (every triangle degenerate, all dropped) or an
+        // outline whose lobes cancel (a bow tie), which crosses itself.
+        for (size_t i = 1; i + 1 < m; ++i) emit(p[0], p[i], p[i + 1]);
+        if (!out.empty()) return std::nullopt;
+        return out;
+    }
+    if (max_plane_deviation(p) > planar_tolerance) {
+        // Non-planar: a fan from vertex 0, as documented.
         for (size_t i = 1; i + 1 < m; ++i) emit(p[0], p[i], p[i + 1]);
         return out;
     }
@@ -218,6 +225,18 @@ std::optional<std::vector<Polygon>> triangulate_polygon(const Polygon& p, double
     plane_basis(nv / len, u, v);
     std::vector<Vec2> q(m);
     for (size_t i = 0; i < m; ++i) q[i] = {glm::dot(p[i], u), glm::dot(p[i], v)};
+    // An outline that crosses itself has no triangulation with its orientation: two edges
+    // that do not share a vertex must not properly intersect.
+    for (size_t i = 0; i < m; ++i)
+        for (size_t j = i + 2; j < m; ++j) {
+            if (i == 0 && j == m - 1) continue;  // adjacent through the closing edge
+            const Vec2 a = q[i], b = q[(i + 1) % m], c = q[j], d = q[(j + 1) % m];
+            const double d1 = cross2(b - a, c - a), d2 = cross2(b - a, d - a);
+            const double d3 = cross2(d - c, a - c), d4 = cross2(d - c, b - c);
+            if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) &&
+                ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+                return std::nullopt;
+        }
     std::vector<int> idx(m);
     for (size_t i = 0; i < m; ++i) idx[i] = static_cast<int>(i);
     auto inside = [&](const Vec2& x, const Vec2& a, const Vec2& b, const Vec2& c) {

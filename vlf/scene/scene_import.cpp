@@ -25,10 +25,13 @@
 #include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "vlf/core/error.hpp"
@@ -87,6 +90,47 @@ std::optional<Rgb> texture_mean(const aiScene& scene, const std::string& model_d
 bool is_gltf(const std::string& path) {
     const std::string ext = lower_extension(path);
     return ext == ".gltf" || ext == ".glb";
+}
+
+// What assimp 5.2 does not take from a glTF file, read from its JSON: each material's
+// KHR_materials_emissive_strength and each camera's vertical field of view (assimp stores
+// yfov x aspect as a horizontal half-angle). Empty when the JSON cannot be read (assimp
+// will already have said why).
+struct GltfExtras {
+    std::vector<double> emissive_strength;  // per material, 1 without the extension
+    std::vector<double> yfov;               // per camera, radians; 0 when not perspective
+};
+
+GltfExtras gltf_extras(const std::string& path) {
+    GltfExtras out;
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (lower_extension(path) == ".glb") {  // 12-byte header, then the JSON chunk
+        uint32_t length = 0;
+        if (text.size() < 20) return out;
+        std::memcpy(&length, text.data() + 12, 4);
+        if (text.compare(16, 4, "JSON") != 0 || 20 + size_t(length) > text.size()) return out;
+        text = text.substr(20, length);
+    }
+    const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return out;
+    for (const auto& m : j.value("materials", nlohmann::json::array())) {
+        double strength = 1.0;
+        if (m.is_object() && m.contains("extensions") && m["extensions"].is_object()) {
+            const auto& e = m["extensions"];
+            if (e.contains("KHR_materials_emissive_strength") &&
+                e["KHR_materials_emissive_strength"].is_object())
+                strength = e["KHR_materials_emissive_strength"].value("emissiveStrength", 1.0);
+        }
+        out.emissive_strength.push_back(strength);
+    }
+    for (const auto& c : j.value("cameras", nlohmann::json::array())) {
+        double yfov = 0.0;
+        if (c.is_object() && c.contains("perspective") && c["perspective"].is_object())
+            yfov = c["perspective"].value("yfov", 0.0);
+        out.yfov.push_back(yfov);
+    }
+    return out;
 }
 
 std::string rgb_text(const Rgb& c) {
@@ -174,7 +218,10 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
 
     Rgb emission(0.0);
     if (m.Get(AI_MATKEY_COLOR_EMISSIVE, c) == AI_SUCCESS) emission = to_rgb(c);
-    if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, x) == AI_SUCCESS) emission *= double(x);
+    if (m.Get(AI_MATKEY_EMISSIVE_INTENSITY, x) == AI_SUCCESS)
+        emission *= double(x);
+    else
+        emission *= g.emissive_strength;
     aiString etex;
     if (m.GetTexture(aiTextureType_EMISSIVE, 0, &etex) == AI_SUCCESS)
         note(
@@ -196,29 +243,6 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
     }
     int two = 0;
     if (m.Get(AI_MATKEY_TWOSIDED, two) == AI_SUCCESS) g.two_sided = two != 0;
-}
-
-// OBJ text is checked line by line for vertex coordinates that are not finite numbers in
-// single precision (the readers parse floats and drop or shift such vertices).
-void check_obj_vertices(const std::string& path) {
-    std::ifstream in(path);
-    std::string line;
-    for (size_t number = 1; std::getline(in, line); ++number) {
-        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
-        const char* s = line.c_str() + 1;
-        for (int k = 0; k < 3; ++k) {
-            while (*s == ' ' || *s == '\t') ++s;
-            char* end = nullptr;
-            const double v = std::strtod(s, &end);
-            if (end == s)
-                throw Error(fmt::format("{}:{}: vertex has {} coordinate{} (needs 3 numbers)", path,
-                                        number, k, k == 1 ? "" : "s"));
-            if (!std::isfinite(v) || std::abs(v) > std::numeric_limits<float>::max())
-                throw Error(fmt::format("{}:{}: vertex coordinate '{}' is not a finite number",
-                                        path, number, std::string(s, size_t(end - s))));
-            s = end;
-        }
-    }
 }
 
 aiMatrix4x4 global_transform(const aiNode* node) {
@@ -272,21 +296,25 @@ struct Collector {
     }
 };
 
-std::vector<Camera> cameras_of(const aiScene& scene) {
+std::vector<Camera> cameras_of(const aiScene& scene, const GltfExtras* gltf) {
     std::vector<Camera> out;
     for (unsigned k = 0; k < scene.mNumCameras; ++k) {
         const aiCamera& c = *scene.mCameras[k];
         const aiMatrix4x4 xf = global_transform(scene.mRootNode->FindNode(c.mName));
         aiMatrix3x3 rot(xf);
+        // assimp's glTF reader copies the node's translation into mPosition as well.
+        const aiVector3D position = gltf ? aiVector3D(0, 0, 0) : c.mPosition;
         Camera cam;
         cam.name = c.mName.length ? c.mName.C_Str() : fmt::format("camera#{}", k);
-        cam.eye = to_vec(xf * c.mPosition);
-        cam.look_at = to_vec(xf * (c.mPosition + c.mLookAt));
+        cam.eye = to_vec(xf * position);
+        cam.look_at = to_vec(xf * (position + c.mLookAt));
         cam.up = glm::normalize(to_vec(rot * c.mUp));
         // mHorizontalFOV is half the horizontal angle; VLF cameras give the vertical one.
         const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
         const double half_v = std::atan(std::tan(double(c.mHorizontalFOV)) / aspect);
         cam.fov_y_deg = 2.0 * half_v * 180.0 / kPi;
+        if (gltf && k < gltf->yfov.size() && gltf->yfov[k] > 0)
+            cam.fov_y_deg = gltf->yfov[k] * 180.0 / kPi;
         if (c.mHorizontalFOV > 0 && cam.fov_y_deg > 0 && cam.fov_y_deg < 180 &&
             glm::length(cam.look_at - cam.eye) > 0)
             out.push_back(cam);
@@ -330,7 +358,7 @@ ImportedScene import_scene_file(const std::string& path) {
         throw Error(fmt::format("scene file '{}' cannot be read", path));
     if (!is_importable_scene_file(path))
         throw Error(fmt::format("'{}': no importer reads '{}' files", path, lower_extension(path)));
-    if (lower_extension(path) == ".obj") check_obj_vertices(path);
+    if (lower_extension(path) == ".obj") check_obj_text(path, false);
 
     Assimp::Importer importer;
     // Points and lines come out as meshes of their own; identical vertices are joined so
@@ -345,14 +373,24 @@ ImportedScene import_scene_file(const std::string& path) {
 
     ImportedScene out;
     const std::string dir = std::filesystem::path(path).parent_path().string();
+    const bool gltf = is_gltf(path);
+    const GltfExtras extras = gltf ? gltf_extras(path) : GltfExtras{};
     std::vector<ImportedGroup> groups(scene->mNumMaterials);
     for (unsigned k = 0; k < scene->mNumMaterials; ++k) {
+        if (k < extras.emissive_strength.size())
+            groups[k].emissive_strength = extras.emissive_strength[k];
         const aiMaterial& m = *scene->mMaterials[k];
         aiString name;
         groups[k].material_name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length
                                       ? name.C_Str()
                                       : fmt::format("material#{}", k);
         map_material(*scene, m, is_gltf(path), dir, groups[k]);
+        const Rgb& e = groups[k].material.emission;
+        if (!(std::max({e.x, e.y, e.z}) <= 1e20))
+            throw Error(
+                fmt::format("{}: material '{}': emission {} is out of range (at most "
+                            "1e20 W m^-2 sr^-1)",
+                            path, groups[k].material_name, rgb_text(e)));
     }
     Collector collect{*scene, path, groups};
     collect.visit(scene->mRootNode, aiMatrix4x4());
@@ -365,7 +403,7 @@ ImportedScene import_scene_file(const std::string& path) {
     if (collect.skipped_primitives)
         out.left_out.push_back(
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
-    out.cameras = cameras_of(*scene);
+    out.cameras = cameras_of(*scene, gltf ? &extras : nullptr);
     for (unsigned k = 0; k < scene->mNumLights; ++k) {
         const aiLight& l = *scene->mLights[k];
         out.left_out.push_back(fmt::format("light '{}' ({}): only emissive surfaces emit",

@@ -17,9 +17,10 @@ namespace vlf {
 
 // One material of the file with the faces that use it.
 struct ImportedGroup {
-    std::string material_name;  // the file's name ("material#<i>" when it has none)
-    Material material;          // mapped (material_mapping in scene_import.cpp)
-    bool two_sided = false;     // the file marks the material double-sided
+    std::string material_name;       // the file's name ("material#<i>" when it has none)
+    Material material;               // mapped (material_mapping in scene_import.cpp)
+    bool two_sided = false;          // the file marks the material double-sided
+    double emissive_strength = 1.0;  // glTF KHR_materials_emissive_strength
     // What the mapping could not represent, one phrase each ("a Phong highlight Ks = ...").
     std::vector<std::string> unrepresented;
     ImportedMesh mesh;  // file units, node transforms applied; faces as in the file

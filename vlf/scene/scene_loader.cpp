@@ -81,6 +81,7 @@ using Json = nlohmann::ordered_json;  // keeps file order: materials are indexed
 using Reader = OrderedJsonReader;
 
 constexpr double kRelativeTolerance = 1e-6;
+constexpr double kMaxEmission = 1e20;
 constexpr double kNormalisedRadius = 0.999;  // geometry strictly inside the unit ball
 
 [[noreturn]] void fail(const std::string& file, const std::string& place, const std::string& what) {
@@ -147,22 +148,23 @@ Material validate_material(const Reader& r, const std::string& name) {
     r.only_keys({"diffuse", "specular", "emission"});
     Material m;
     m.name = name;
-    auto rgb = [&](const char* key, double upper) {
+    auto rgb = [&](const char* key, double upper, const char* bound) {
         Rgb c(0.0);
         const auto e = r.optional(key);
         if (!e) return c;
         c = e->vec3();
         for (int i = 0; i < 3; ++i) {
             if (c[i] < 0) e->element(i).fail(fmt::format("must be >= 0 (got {})", c[i]));
-            if (c[i] > upper)
-                e->element(i).fail(fmt::format("reflectance must be <= 1 (got {})", c[i]));
+            if (c[i] > upper) e->element(i).fail(fmt::format("{} (got {})", bound, c[i]));
         }
         return c;
     };
-    const double inf = std::numeric_limits<double>::infinity();
-    m.diffuse = rgb("diffuse", 1.0);
-    m.specular = rgb("specular", 1.0);
-    m.emission = rgb("emission", inf);
+    m.diffuse = rgb("diffuse", 1.0, "reflectance must be <= 1");
+    m.specular = rgb("specular", 1.0, "reflectance must be <= 1");
+    // Far above any lamp (the sun's disc is ~2e7 W m^-2 sr^-1), far below where the
+    // ledger's sums of power over faces and cycles would overflow.
+    m.emission = rgb("emission", kMaxEmission,
+                     "emission must be <= 1e20 W m^-2 sr^-1 (the power ledger would overflow)");
     for (int i = 0; i < 3; ++i)
         if (m.diffuse[i] + m.specular[i] > 1.0)
             r.fail(fmt::format(
@@ -504,6 +506,8 @@ std::vector<ImportedMesh> load_resources(SceneDescription& d, const std::string&
         } catch (const SceneError& e) {
             throw SceneError(fmt::format("{}: {}", file, e.what()));
         } catch (const Error& e) {
+            // A model file given on its own is the scene: its messages need no JSON place.
+            if (o.file_path == file) throw SceneError(e.what());
             fail(file, o.place + ".file", e.what());
         }
     }
@@ -619,7 +623,16 @@ std::vector<Polygon> checked_faces(const ObjectDesc& o, const std::vector<Polygo
                     out.push_back(std::move(t));
             }
         } else {
-            if (auto problem = polygon_problem(p, tol, tol)) face_error(file, o, k, *problem);
+            if (auto problem = polygon_problem(p, tol, tol)) {
+                // Sizes are relative to the whole scene: say so, or a far-away vertex of
+                // another object is hard to find.
+                if (problem->find("degenerate") != std::string::npos)
+                    *problem += fmt::format(
+                        " (lengths below {:.3g}, 1e-6 of the scene's bounding-box diagonal, are "
+                        "zero)",
+                        tol);
+                face_error(file, o, k, *problem);
+            }
             out.push_back(p);
         }
     }
@@ -720,7 +733,13 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     const double half_diagonal = normalise(scene, faces, file);
     add_objects(scene, d, faces);
     if (scene.emitter_count() == 0)
-        fail(file, "objects", "no emitter: no face uses a material with emission > 0");
+        fail(file, "objects",
+             std::any_of(d.objects.begin(), d.objects.end(),
+                         [](const ObjectDesc& o) { return o.type == "import"; })
+                 ? "no emitter: no face uses a material with emission > 0 (an imported file "
+                   "emits through its materials' Ke or emissive colour; else add a lamp: "
+                   "{\"type\": \"import\", \"file\": ...} in a JSON scene, docs/scenes.md)"
+                 : "no emitter: no face uses a material with emission > 0");
 
     // Texel size: the caller's, else the file's, else the bounding-sphere radius / 32.
     if (options.texel_size_user > 0)

@@ -1,0 +1,301 @@
+// scene_import_test.cpp — whole scenes from model files (vlf/scene/scene_import.hpp and the
+// loader's "import" objects): material mapping of OBJ/MTL and glTF, node transforms, cameras,
+// overrides, and the repairs and errors of bad files.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "vlf/core/error.hpp"
+#include "vlf/scene/primitives.hpp"
+#include "vlf/scene/scene_loader.hpp"
+
+namespace vlf {
+namespace {
+
+const std::string kModels = std::string(VLF_SOURCE_DIR) + "/scenes/models";
+
+struct TempDir {
+    std::filesystem::path path;
+    explicit TempDir(const std::string& name) {
+        path = std::filesystem::path(::testing::TempDir()) /
+               ("vlf_import_" + name + "_" + std::to_string(::getpid()));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    std::string write(const std::string& file, const std::string& text) const {
+        std::ofstream(path / file, std::ios::binary) << text;
+        return (path / file).string();
+    }
+};
+
+const Material& material_named(const Scene& s, const std::string& name) {
+    for (const Material& m : s.materials)
+        if (m.name == name) return m;
+    ADD_FAILURE() << "no material " << name;
+    return s.materials.front();
+}
+
+const SceneObject& object_named(const Scene& s, const std::string& name) {
+    for (const SceneObject& o : s.objects)
+        if (o.name == name) return o;
+    ADD_FAILURE() << "no object " << name;
+    return s.objects.front();
+}
+
+bool has_note(const Scene& s, const std::string& text) {
+    for (const std::string& n : s.load_notes)
+        if (n.find(text) != std::string::npos) return true;
+    return false;
+}
+
+void expect_rgb(const Rgb& got, const Rgb& want, double tol = 1e-6) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], tol) << "channel " << c;
+}
+
+std::string base64(const std::string& bytes) {
+    static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 |
+                           (unsigned char)bytes[i + 2];
+        for (int s = 18; s >= 0; s -= 6) out += k[(v >> s) & 63];
+    }
+    if (i < bytes.size()) {
+        unsigned v = (unsigned char)bytes[i] << 16;
+        if (i + 1 < bytes.size()) v |= (unsigned char)bytes[i + 1] << 8;
+        out += k[(v >> 18) & 63];
+        out += k[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? k[(v >> 6) & 63] : '=';
+        out += '=';
+    }
+    return out;
+}
+
+// A glTF 2.0 file of one unit quad (y = 0, facing +y, x and z in [-1, 1]) used by three
+// nodes: a diffuse floor, a lamp turned upside down at y = 1 (emissive x strength 4), and
+// a mirror with a mirroring scale (x -> -x) at y = 0.5; and a camera at (0, 0.5, 3).
+std::string quad_gltf() {
+    const float pos[12] = {-1, 0, -1, -1, 0, 1, 1, 0, 1, 1, 0, -1};
+    const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    std::string bytes(sizeof pos + sizeof idx, '\0');
+    std::memcpy(bytes.data(), pos, sizeof pos);
+    std::memcpy(bytes.data() + sizeof pos, idx, sizeof idx);
+    using nlohmann::json;
+    json g = {
+        {"asset", {{"version", "2.0"}}},
+        {"extensionsUsed", {"KHR_materials_emissive_strength"}},
+        {"buffers",
+         {{{"byteLength", bytes.size()},
+           {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", sizeof pos}},
+          {{"buffer", 0}, {"byteOffset", sizeof pos}, {"byteLength", sizeof idx}}}},
+        {"accessors",
+         {{{"bufferView", 0},
+           {"componentType", 5126},
+           {"count", 4},
+           {"type", "VEC3"},
+           {"min", {-1, 0, -1}},
+           {"max", {1, 0, 1}}},
+          {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+        {"materials",
+         {{{"name", "paint"},
+           {"pbrMetallicRoughness",
+            {{"baseColorFactor", {0.5, 0.6, 0.7, 1}}, {"metallicFactor", 0}}}},
+          {{"name", "glow"},
+           {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}},
+           {"emissiveFactor", {1, 0.5, 0.25}},
+           {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+          {{"name", "chrome"},
+           {"pbrMetallicRoughness",
+            {{"baseColorFactor", {0.9, 0.8, 0.7, 1}},
+             {"metallicFactor", 1},
+             {"roughnessFactor", 0}}}}}},
+        {"meshes",
+         {{{"name", "floor"},
+           {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}},
+          {{"name", "lamp"},
+           {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 1}}}}},
+          {{"name", "mirror"},
+           {"primitives",
+            {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 2}}}}}}},
+        {"cameras",
+         {{{"name", "view"},
+           {"type", "perspective"},
+           {"perspective", {{"yfov", 0.8}, {"aspectRatio", 1.5}, {"znear", 0.01}}}}}},
+        {"nodes",
+         {{{"mesh", 0}},
+          {{"mesh", 1}, {"translation", {0, 1, 0}}, {"rotation", {1, 0, 0, 0}}},
+          {{"mesh", 2}, {"translation", {0, 0.5, 0}}, {"scale", {-0.25, 1, 0.25}}},
+          {{"name", "view"}, {"camera", 0}, {"translation", {0, 0.5, 3}}}}},
+        {"scenes", {{{"nodes", {0, 1, 2, 3}}}}},
+        {"scene", 0}};
+    return g.dump(1);
+}
+
+// ---- OBJ + MTL: the public Cornell box (scenes/models/cornell-box/README.md) ------------
+
+TEST(SceneImport, CornellBoxObjMaterialsAndRepairs) {
+    const Scene s = load_scene(kModels + "/cornell-box/CornellBox-Original.obj");
+    expect_rgb(material_named(s, "CornellBox-Original/leftWall").diffuse, {0.63, 0.065, 0.05});
+    expect_rgb(material_named(s, "CornellBox-Original/rightWall").diffuse, {0.14, 0.45, 0.091});
+    const Material& light = material_named(s, "CornellBox-Original/light");
+    expect_rgb(light.emission, {17, 12, 4});
+    expect_rgb(light.diffuse, {0.78, 0.78, 0.78});
+    // 8 quads of the room and lamp, 12 of the boxes less the two the file repeats
+    // ("f -8 -7 -6 -5" for a box's bottom repeats its front), all as triangles.
+    EXPECT_EQ(s.faces.size(), 2u * (6 + 12 - 2));
+    EXPECT_TRUE(has_note(s, "2 repeated triangle(s) dropped")) << s.load_notes.size();
+    EXPECT_TRUE(has_note(s, "non-planar face(s) split into triangles"));
+    for (const Face& f : s.faces) EXPECT_EQ(f.vertices.size(), 3u);
+    // Every wall faces into the room: its normal points at the box's centre.
+    const Vec3 centre = s.normalisation.to_normalised({0.0, 1.0, 0.0});
+    for (const char* wall : {"floor", "ceiling", "backWall", "leftWall", "rightWall"}) {
+        const SceneObject& o = object_named(s, std::string("CornellBox-Original/") + wall);
+        for (int k = 0; k < o.face_count; ++k) {
+            const Face& f = s.faces[size_t(o.first_face + k)];
+            EXPECT_GT(glm::dot(f.normal, centre - f.vertices[0]), 0) << wall;
+        }
+    }
+}
+
+TEST(SceneImport, MtlIllumFiveIsAMirrorAndGlassIsNoted) {
+    const Scene s = load_scene(kModels + "/cornell-box/CornellBox-Sphere.obj");
+    const Material& chrome = material_named(s, "CornellBox-Sphere/leftSphere");
+    expect_rgb(chrome.specular, {0.95, 0.95, 0.95});
+    expect_rgb(chrome.diffuse, {0.01, 0.01, 0.01});
+    EXPECT_TRUE(has_note(s, "material 'rightSphere': left out: a Phong highlight"));
+    EXPECT_TRUE(has_note(s, "illum 7 (glass: no dielectrics yet)"));
+}
+
+// ---- glTF: materials, node transforms, cameras ------------------------------------------
+
+TEST(SceneImport, GltfMaterialsNodesAndCamera) {
+    TempDir dir("gltf");
+    const std::string file = dir.write("quads.gltf", quad_gltf());
+    const Scene s = load_scene(file);
+    expect_rgb(material_named(s, "quads/paint").diffuse, {0.5, 0.6, 0.7});
+    const Material& glow = material_named(s, "quads/glow");
+    expect_rgb(glow.emission, {4, 2, 1});
+    expect_rgb(glow.diffuse, {0, 0, 0});
+    const Material& chrome = material_named(s, "quads/chrome");
+    expect_rgb(chrome.specular, {0.9, 0.8, 0.7});
+    expect_rgb(chrome.diffuse, {0, 0, 0});
+    // The lamp is turned upside down at y = 1; the mirror, under a mirroring scale, still
+    // faces up (its winding is reversed with the transform).
+    auto normal_of = [&](const std::string& name) {
+        return s.faces[size_t(object_named(s, name).first_face)].normal;
+    };
+    EXPECT_NEAR(normal_of("quads/glow").y, -1.0, 1e-9);
+    EXPECT_NEAR(normal_of("quads/paint").y, 1.0, 1e-9);
+    EXPECT_NEAR(normal_of("quads/chrome").y, 1.0, 1e-9);
+    const SceneObject& lamp = object_named(s, "quads/glow");
+    const Vec3 p = s.normalisation.to_user(s.faces[size_t(lamp.first_face)].vertices[0]);
+    EXPECT_NEAR(p.y, 1.0, 1e-6);
+    double mirror_area = 0;
+    const SceneObject& mirror = object_named(s, "quads/chrome");
+    for (int k = 0; k < mirror.face_count; ++k)
+        mirror_area += s.faces[size_t(mirror.first_face + k)].area;
+    const double scale = s.normalisation.scale;
+    EXPECT_NEAR(mirror_area / (scale * scale), 4.0 * 0.25 * 0.25, 1e-6);
+
+    ASSERT_EQ(s.cameras.size(), 1u);
+    const Camera& c = s.cameras[0];
+    EXPECT_EQ(c.name, "quads/view");
+    EXPECT_NEAR(glm::length(c.eye - Vec3(0, 0.5, 3)), 0.0, 1e-6);
+    const Vec3 d = glm::normalize(c.look_at - c.eye);
+    EXPECT_NEAR(d.z, -1.0, 1e-6);
+    EXPECT_NEAR(c.fov_y_deg, 0.8 * 180.0 / kPi, 1e-3);  // glTF's yfov
+}
+
+// ---- JSON "import" objects: transform, overrides ----------------------------------------
+
+TEST(SceneImport, JsonImportObjectWithTransformAndOverrides) {
+    TempDir dir("json");
+    dir.write("quads.gltf", quad_gltf());
+    const std::string scene = dir.write("s.json", R"({
+        "materials": {"grey": {"diffuse": [0.3, 0.3, 0.3]}},
+        "objects": [{"type": "import", "file": "quads.gltf", "name": "set",
+                     "translate": [10, 0, 0], "materials": {"paint": "grey"}}]})");
+    const Scene s = load_scene(scene);
+    const SceneObject& floor = object_named(s, "set/paint");
+    const Face& f = s.faces[size_t(floor.first_face)];
+    EXPECT_EQ(s.materials[size_t(f.material)].name, "grey");
+    EXPECT_NEAR(s.normalisation.to_user(polygon_centroid(f.vertices)).x, 10.0, 1.0);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    EXPECT_EQ(s.cameras[0].name, "set/view");
+    EXPECT_NEAR(s.cameras[0].eye.x, 10.0, 1e-9);
+
+    const std::string bad = dir.write("b.json", R"({
+        "materials": {"grey": {"diffuse": [0.3, 0.3, 0.3]}},
+        "objects": [{"type": "import", "file": "quads.gltf", "materials": {"pain": "grey"}}]})");
+    try {
+        load_scene(bad);
+        FAIL() << "expected an error";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find(bad + ": objects[0].materials: no material 'pain' in "
+                                                   "'quads.gltf'"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+// ---- bad files: one clear line naming the file and the place ----------------------------
+
+void expect_load_error(const std::string& path, const std::string& expected) {
+    try {
+        load_scene(path);
+        ADD_FAILURE() << "no error, expected: " << expected;
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+            << "message: " << e.what() << "\nexpected to contain: " << expected;
+    }
+}
+
+TEST(SceneImport, ObjVertexThatIsNotFiniteNamesItsLine) {
+    TempDir dir("nan");
+    const std::string lamp = "v 0 1 0\nv 0 1 1\nv 1 1 1\nf 1 2 3\n";
+    for (const char* bad : {"nan", "inf", "1e39", "-1e400"}) {
+        const std::string obj = dir.write(
+            "m.obj", "v 0 0 0\nv 1 0 0\nv " + std::string(bad) + " 1 0\nv 0 1 0\nf 1 2 4\n");
+        expect_load_error(
+            obj, obj + ":3: vertex coordinate '" + std::string(bad) + "' is not a finite number");
+        const std::string json =
+            dir.write("s.json", R"({"materials": {"l": {"emission": [1, 1, 1]}}, "objects": [
+                {"type": "mesh", "file": "m.obj", "material": "l"}]})");
+        expect_load_error(json, json + ": objects[0].file: " + obj + ":3: vertex coordinate");
+    }
+}
+
+TEST(SceneImport, ObjFaceWithTooFewOrRepeatedVerticesIsAnErrorForMeshes) {
+    TempDir dir("faces");
+    const std::string json =
+        dir.write("s.json", R"({"materials": {"l": {"emission": [1, 1, 1]}}, "objects": [
+            {"type": "mesh", "file": "m.obj", "material": "l"}]})");
+    const std::string two =
+        dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4\n");
+    expect_load_error(json, two + ":6: face has 2 vertex index(es)");
+    const std::string rep =
+        dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 -3\nf 1 2 3\n");
+    expect_load_error(json, rep + ":5: face repeats a vertex index");
+}
+
+TEST(SceneImport, MissingDirectoryAndUnknownFormat) {
+    TempDir dir("missing");
+    expect_load_error((dir.path / "none.glb").string(), "does not exist");
+    std::filesystem::create_directories(dir.path / "folder.obj");
+    expect_load_error((dir.path / "folder.obj").string(), "is a directory, not a scene file");
+    const std::string json =
+        dir.write("s.json", R"({"materials": {"l": {"emission": [1, 1, 1]}}, "objects": [
+            {"type": "import", "file": "x.notaformat"}]})");
+    expect_load_error(json, json + ": objects[0].file: 'x.notaformat': no importer reads");
+}
+
+}  // namespace
+}  // namespace vlf
