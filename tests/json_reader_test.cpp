@@ -59,7 +59,7 @@ TEST(JsonParse, OrderedKeepsFileOrder) {
 
 TEST(JsonParse, MissingFile) {
     expect_message([] { read_json_file("/nonexistent/dir/x.json"); },
-                   "/nonexistent/dir/x.json: (file): cannot be opened");
+                   "/nonexistent/dir/x.json: (file): does not exist");
 }
 
 // ---- paths ----------------------------------------------------------------------------

@@ -13,9 +13,11 @@
 #include "vlf/bake/lightfield_exr.hpp"
 #include "vlf/bake/lightmaps_exr.hpp"
 #include "vlf/bake/scene_json.hpp"
+#include "vlf/bake/textures_bin.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/core/files.hpp"
 #include "vlf/core/json_reader.hpp"
+#include "vlf/scene/texel_albedo.hpp"
 #include "vlf/transport/transport.hpp"
 
 namespace vlf {
@@ -77,6 +79,8 @@ void write_parts(const fs::path& dir, const Bake& bake, const RaySource& rays, s
     write_text((dir / kSceneFile).string(), scene_to_json(bake.scene).dump(1) + "\n");
     step = kGeometryFile;
     write_geometry((dir / kGeometryFile).string(), bake.scene);
+    step = kTexturesFile;
+    write_textures((dir / kTexturesFile).string(), bake.scene);
 
     step = kLightmapsFile;
     const Atlas atlas = pack_atlas(bake.scene);
@@ -148,6 +152,8 @@ Scene read_scene_file(const BundleErrors& errors) {
     const std::string file = errors.file(kSceneFile);
     Scene s = scene_from_json(read_json_file(file), file);
     read_geometry(errors.file(kGeometryFile), s);
+    read_textures(errors.file(kTexturesFile), s);
+    compute_texel_albedo(s);
     for (size_t k = 0; k < s.objects.size(); ++k) {
         const SceneObject& o = s.objects[k];
         if (size_t(o.first_face) + size_t(o.face_count) > s.faces.size())

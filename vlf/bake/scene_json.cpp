@@ -23,7 +23,8 @@ json scene_to_json(const Scene& scene) {
         materials.push_back({{"name", m.name},
                              {"diffuse", vec_json(m.diffuse)},
                              {"specular", vec_json(m.specular)},
-                             {"emission", vec_json(m.emission)}});
+                             {"emission", vec_json(m.emission)},
+                             {"diffuse_texture", m.diffuse_texture}});
     json objects = json::array();
     for (const SceneObject& o : scene.objects)
         objects.push_back({{"name", o.name},
@@ -56,12 +57,13 @@ json scene_to_json(const Scene& scene) {
 namespace {
 
 Material read_material(const JsonReader& r) {
-    r.only_keys({"name", "diffuse", "specular", "emission"});
+    r.only_keys({"name", "diffuse", "specular", "emission", "diffuse_texture"});
     Material m;
     m.name = r.required("name").string();
     m.diffuse = r.required("diffuse").vec3();
     m.specular = r.required("specular").vec3();
     m.emission = r.required("emission").vec3();
+    m.diffuse_texture = r.required("diffuse_texture").integer(-1);
     return m;
 }
 

@@ -118,18 +118,19 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
             }
             L += beta * m.emission * w;
         }
-        const double pd = std::max(0.0, mean(m.diffuse)), ps = std::max(0.0, mean(m.specular));
+        const Vec3& x = hit.point;
+        const Rgb rho_d = m.is_diffuse() ? m_scene.albedo_at(f, x) : Rgb(0.0);  // textured too
+        const double pd = std::max(0.0, mean(rho_d)), ps = std::max(0.0, mean(m.specular));
         if (pd + ps <= 0.0) break;
         const double p_diffuse = pd / (pd + ps);  // probability of the Lambertian lobe
-        const Vec3& x = hit.point;
-        if (pd > 0.0) L += beta * m.diffuse * (1.0 / kPi) * direct(x, n, p_diffuse, rng);
+        if (pd > 0.0) L += beta * rho_d * (1.0 / kPi) * direct(x, n, p_diffuse, rng);
         if (rng.uniform() < p_diffuse) {  // Lambertian lobe, cosine-weighted
             const double r = std::sqrt(rng.uniform()), phi = 2.0 * kPi * rng.uniform();
             Vec3 e1, e2;
             orthonormal_basis(n, e1, e2);
             const double cz = std::sqrt(std::max(0.0, 1.0 - r * r));
             dir = glm::normalize(r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + cz * n);
-            beta *= m.diffuse / p_diffuse;  // f cos / pdf = rho_d, over the lobe choice
+            beta *= rho_d / p_diffuse;  // f cos / pdf = rho_d, over the lobe choice
             bsdf_pdf = p_diffuse * glm::dot(dir, n) / kPi;
             if (!(bsdf_pdf > 0.0)) break;
         } else {  // ideal mirror

@@ -75,9 +75,21 @@ struct Renderer::Impl {
     }
 
     // P^T of face f at x, bilinear on its chart's grid (VLF §6.2/§6.3).
+    // A textured chart shows its texture at full resolution: the reflected part
+    // (irradiance x texel albedo) times the albedo at x over the texels' albedo, looked up
+    // the same way (issue 12).
     Rgb lightmap(const Face& f, const Vec3& x) const {
-        return sample_lightmap(scene.chart_of(f),
-                               bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
+        const Chart& c = scene.chart_of(f);
+        const Rgb L =
+            sample_lightmap(c, bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
+        if (c.texel_albedo.empty()) return L;
+        const Material& m = scene.material_of(f);
+        const Rgb texel_rho = sample_lightmap(c, c.texel_albedo.data(), x);
+        const Rgb rho = scene.albedo_at(f, x);
+        Rgb out = m.emission;
+        for (int ch = 0; ch < 3; ++ch)
+            out[ch] += texel_rho[ch] > 0 ? (L[ch] - m.emission[ch]) * rho[ch] / texel_rho[ch] : 0.0;
+        return out;
     }
 
     // Diffuse contribution of a face: P^T where it reflects diffusely or emits (P^T

@@ -13,6 +13,7 @@ namespace vlf {
 struct ImportedMesh {
     std::vector<Vec3> vertices;           // file units
     std::vector<std::vector<int>> faces;  // vertex indices in the file's order (front = CCW)
+    std::vector<Vec2> uvs;  // texture coordinates per vertex, or empty (scene imports only)
 };
 
 // Checks an OBJ file's text (mesh_import.cpp): vertex coordinates must be finite numbers in

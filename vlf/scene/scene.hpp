@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vlf/core/math.hpp"
+#include "vlf/scene/texture.hpp"
 
 namespace vlf {
 
@@ -21,6 +22,10 @@ struct Material {
     Rgb diffuse{0.0};   // rho_d per channel
     Rgb specular{0.0};  // rho_s per channel (ideal mirror)
     Rgb emission{0.0};  // Le, radiance of a Lambertian emitter, W m^-2 sr^-1
+    // A diffuse colour texture (index into Scene::textures) or -1. With one, `diffuse` is
+    // the material's mean albedo and the albedo at a point is diffuse x texture(uv) / its
+    // mean (Scene::albedo_at): the texture's pattern at the material's level.
+    int diffuse_texture = -1;
     bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
     bool is_specular() const { return specular.x > 0 || specular.y > 0 || specular.z > 0; }
     bool is_diffuse() const { return diffuse.x > 0 || diffuse.y > 0 || diffuse.z > 0; }
@@ -60,6 +65,8 @@ struct Face {
     // so a beam footprint is not clipped there (texel_clip.hpp). Edges from 64 on are
     // always treated as the chart's rim.
     uint64_t inner_edges = 0;
+    // Texture coordinates per vertex (a textured material's triangles), else empty.
+    std::vector<Vec2> uv;
 };
 
 // A chart (docs/charts.md): connected faces of one material whose normals lie within a
@@ -83,6 +90,9 @@ struct Chart {
     // smallest cosine between a face's normal and `normal`.
     Vec3 area_normal{0.0};
     double min_cos = 1.0;
+    // A textured material's mean albedo per texel (texel_albedo.hpp), else empty: the
+    // material's `diffuse` holds everywhere.
+    std::vector<Rgb> texel_albedo;
 };
 
 struct SceneObject {
@@ -112,6 +122,7 @@ struct Scene {
     std::string source;  // file the scene was loaded from (for messages only)
     std::string units;   // informational unit name from the file ("" when absent)
     std::vector<Material> materials;
+    std::vector<Texture> textures;
     std::vector<SceneObject> objects;
     std::vector<Face> faces;
     std::vector<Chart> charts;
@@ -129,6 +140,9 @@ struct Scene {
     const Material& material_of(const Face& f) const { return materials[f.material]; }
     const Material& material_of(const Chart& c) const { return materials[c.material]; }
     const Chart& chart_of(const Face& f) const { return charts[f.chart]; }
+    // The diffuse albedo at point x (normalised units) of face f: the material's, modulated
+    // by its texture where it has one (Material::diffuse_texture).
+    Rgb albedo_at(const Face& f, const Vec3& x) const;
     int emitter_count() const;        // faces whose material emits
     int specular_face_count() const;  // faces whose material has rho_s > 0
 };

@@ -45,29 +45,23 @@ Rgb to_rgb(const aiColor4D& c) {
     return {c.r, c.g, c.b};
 }
 
-double srgb_to_linear(double c) {
-    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
-// The mean linear colour of a texture (file next to the model, or embedded), or nullopt
-// when it cannot be read.
-std::optional<Rgb> texture_mean(const aiScene& scene, const std::string& model_dir,
-                                const std::string& name) {
+// A texture image (a file next to the model, or embedded in it) as 8-bit sRGB RGB, or
+// nullopt when it cannot be read.
+std::optional<Texture> read_texture(const aiScene& scene, const std::string& model_dir,
+                                    const std::string& name) {
+    Texture out;
+    out.name = name;
     int w = 0, h = 0, n = 0;
     unsigned char* pixels = nullptr;
     if (const aiTexture* t = scene.GetEmbeddedTexture(name.c_str())) {
-        if (t->mHeight == 0)  // compressed (PNG, JPEG) in mWidth bytes
+        if (t->mHeight == 0) {  // compressed (PNG, JPEG) in mWidth bytes
             pixels = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(t->pcData),
                                            int(t->mWidth), &w, &h, &n, 3);
-        else {  // raw BGRA texels
-            Rgb sum(0.0);
-            const size_t count = size_t(t->mWidth) * t->mHeight;
-            for (size_t i = 0; i < count; ++i) {
-                const aiTexel& p = t->pcData[i];
-                sum += Rgb(srgb_to_linear(p.r / 255.0), srgb_to_linear(p.g / 255.0),
-                           srgb_to_linear(p.b / 255.0));
-            }
-            return count ? std::optional<Rgb>(sum / double(count)) : std::nullopt;
+        } else {  // raw BGRA texels
+            out.width = int(t->mWidth);
+            out.height = int(t->mHeight);
+            for (size_t i = 0; i < size_t(out.width) * size_t(out.height); ++i)
+                out.srgb.insert(out.srgb.end(), {t->pcData[i].r, t->pcData[i].g, t->pcData[i].b});
         }
     } else {
         std::string file = name;
@@ -75,16 +69,15 @@ std::optional<Rgb> texture_mean(const aiScene& scene, const std::string& model_d
         const std::filesystem::path p = std::filesystem::path(model_dir) / file;
         pixels = stbi_load(p.string().c_str(), &w, &h, &n, 3);
     }
-    if (!pixels) return std::nullopt;
-    // Decode each 8-bit value once.
-    double lut[256];
-    for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(i / 255.0);
-    Rgb sum(0.0);
-    const size_t count = size_t(w) * size_t(h);
-    for (size_t i = 0; i < count; ++i)
-        sum += Rgb(lut[pixels[3 * i]], lut[pixels[3 * i + 1]], lut[pixels[3 * i + 2]]);
-    stbi_image_free(pixels);
-    return count ? std::optional<Rgb>(sum / double(count)) : std::nullopt;
+    if (pixels) {
+        out.width = w;
+        out.height = h;
+        out.srgb.assign(pixels, pixels + size_t(w) * size_t(h) * 3);
+        stbi_image_free(pixels);
+    }
+    if (out.width <= 0 || out.height <= 0) return std::nullopt;
+    out.finish();
+    return out;
 }
 
 bool is_gltf(const std::string& path) {
@@ -162,16 +155,15 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
         base = to_rgb(c);
     }
 
-    // A diffuse colour texture: its mean colour.
+    // A diffuse colour texture: the albedo is the colour x the texture (Scene::albedo_at).
     aiString tex;
     const bool has_texture =
         (gltf && m.GetTexture(aiTextureType_BASE_COLOR, 0, &tex) == AI_SUCCESS) ||
         m.GetTexture(aiTextureType_DIFFUSE, 0, &tex) == AI_SUCCESS;
     if (has_texture) {
-        if (const auto mean = texture_mean(scene, dir, tex.C_Str())) {
-            base *= *mean;
-            note(fmt::format("diffuse texture '{}' (used as its mean colour {})", tex.C_Str(),
-                             rgb_text(*mean)));
+        if (auto t = read_texture(scene, dir, tex.C_Str())) {
+            base *= t->average;
+            g.texture = std::move(*t);
         } else {
             note(fmt::format("diffuse texture '{}' (cannot be read; the colour alone is used)",
                              tex.C_Str()));
@@ -275,6 +267,17 @@ struct Collector {
                 throw Error(fmt::format("{}: mesh '{}': vertex {} is not finite", path,
                                         mesh.mName.C_Str(), v));
             out.vertices.push_back(q);
+        }
+        // Texture coordinates for a textured material's faces (NaN where the mesh has none:
+        // those faces take the material's mean albedo).
+        const ImportedGroup& g = groups[mesh.mMaterialIndex];
+        if (g.texture.width > 0) {
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            out.uvs.resize(size_t(base), Vec2(nan));
+            for (unsigned v = 0; v < mesh.mNumVertices; ++v)
+                out.uvs.push_back(mesh.HasTextureCoords(0) ? Vec2(mesh.mTextureCoords[0][v].x,
+                                                                  mesh.mTextureCoords[0][v].y)
+                                                           : Vec2(nan));
         }
         // A mirroring transform turns the winding: reverse it so the front stays the front.
         const bool mirrored = xf.Determinant() < 0;

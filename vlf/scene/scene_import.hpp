@@ -21,6 +21,9 @@ struct ImportedGroup {
     Material material;               // mapped (material_mapping in scene_import.cpp)
     bool two_sided = false;          // the file marks the material double-sided
     double emissive_strength = 1.0;  // glTF KHR_materials_emissive_strength
+    // Its diffuse colour texture (width 0 when it has none); material.diffuse is then the
+    // file's colour x the texture's mean (Material::diffuse_texture).
+    Texture texture;
     // What the mapping could not represent, one phrase each ("a Phong highlight Ks = ...").
     std::vector<std::string> unrepresented;
     ImportedMesh mesh;  // file units, node transforms applied; faces as in the file

@@ -72,6 +72,7 @@
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene_import.hpp"
 #include "vlf/scene/sealed_areas.hpp"
+#include "vlf/scene/texel_albedo.hpp"
 
 namespace vlf {
 
@@ -117,6 +118,7 @@ struct SceneDescription {
     std::optional<double> texel_size;
     std::string units;
     std::vector<std::string> notes;  // Scene::load_notes
+    std::vector<Texture> textures;   // imported files' diffuse textures (Scene::textures)
 };
 
 const std::vector<std::string> kObjectTypes = {"polygon",  "box",  "sphere",
@@ -460,10 +462,18 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
                                        [&](const auto& m) { return m.first == g.material_name; });
         if (o.material_given) {
             part.material = o.material;
+            g.mesh.uvs.clear();
         } else if (over != o.material_overrides.end()) {
             part.material = over->second;
+            g.mesh.uvs.clear();
         } else {
             g.material.name = part.name;
+            if (g.texture.width > 0) {
+                g.material.diffuse_texture = static_cast<int>(d.textures.size());
+                d.textures.push_back(std::move(g.texture));
+            } else {
+                g.mesh.uvs.clear();
+            }
             part.material = static_cast<int>(d.materials.size());
             d.materials.push_back(g.material);
             if (!g.unrepresented.empty()) {
@@ -585,9 +595,34 @@ std::vector<std::vector<Polygon>> transformed_shapes(const SceneDescription& d,
 
 // An object's checked convex planar faces (triangulated when asked), oriented, doubled
 // when two-sided.
-std::vector<Polygon> checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw, double tol,
-                                   const std::string& file, std::vector<std::string>& notes) {
-    std::vector<Polygon> out;
+// An object's faces as they enter the scene, with their texture coordinates (per face and
+// vertex; empty when the object has none).
+struct ObjectFaces {
+    std::vector<Polygon> polygons;
+    std::vector<std::vector<Vec2>> uvs;
+};
+
+// The texture coordinates of triangle `t`, cut from polygon `k` of `mesh` (triangulation
+// keeps the polygon's vertices): empty when a vertex has none.
+std::vector<Vec2> triangle_uvs(const ImportedMesh& mesh, size_t k, const Polygon& p,
+                               const Polygon& t) {
+    std::vector<Vec2> uv;
+    for (const Vec3& x : t) {
+        const auto at = std::find(p.begin(), p.end(), x);
+        if (at == p.end()) return {};
+        const Vec2 u = mesh.uvs[size_t(mesh.faces[k][size_t(at - p.begin())])];
+        if (!std::isfinite(u.x) || !std::isfinite(u.y)) return {};
+        uv.push_back(u);
+    }
+    return uv;
+}
+
+ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
+                          const ImportedMesh& mesh, double tol, const std::string& file,
+                          std::vector<std::string>& notes) {
+    ObjectFaces result;
+    std::vector<Polygon>& out = result.polygons;
+    const bool textured = !mesh.uvs.empty();
     // Imports are repaired, never refused for a face: what changed is counted.
     const bool imported = o.type == "import";
     size_t crossing = 0, degenerate = 0, non_planar = 0, duplicate = 0;
@@ -617,10 +652,12 @@ std::vector<Polygon> checked_faces(const ObjectDesc& o, const std::vector<Polygo
                     ++non_planar;
             degenerate += p.size() - 2 - tris->size();
             for (Polygon& t : *tris) {
-                if (imported && repeats(t))
+                if (imported && repeats(t)) {
                     ++duplicate;
-                else
-                    out.push_back(std::move(t));
+                    continue;
+                }
+                if (textured) result.uvs.push_back(triangle_uvs(mesh, k, p, t));
+                out.push_back(std::move(t));
             }
         } else {
             if (auto problem = polygon_problem(p, tol, tol)) {
@@ -646,23 +683,27 @@ std::vector<Polygon> checked_faces(const ObjectDesc& o, const std::vector<Polygo
     count(duplicate, "repeated triangle(s) dropped (the same vertices as another face)");
     if (!changed.empty())
         notes.push_back(fmt::format("{}: {} ({}): {}", file, o.place, o.name, changed));
-    if (o.flip)
+    std::vector<std::vector<Vec2>>& uvs = result.uvs;
+    if (o.flip) {
         for (Polygon& p : out) std::reverse(p.begin(), p.end());
+        for (auto& uv : uvs) std::reverse(uv.begin(), uv.end());
+    }
     if (o.two_sided) {
         const size_t n = out.size();
         for (size_t k = 0; k < n; ++k) out.emplace_back(out[k].rbegin(), out[k].rend());
+        for (size_t k = 0; k < uvs.size() && k < n; ++k)
+            uvs.emplace_back(uvs[k].rbegin(), uvs[k].rend());
     }
-    return out;
+    return result;
 }
 
 // The bounds of the faces and the normalisation into the unit ball; returns the half
 // diagonal of the bounds (user units).
-double normalise(Scene& scene, const std::vector<std::vector<Polygon>>& faces,
-                 const std::string& file) {
+double normalise(Scene& scene, const std::vector<ObjectFaces>& faces, const std::string& file) {
     Vec3 lo(std::numeric_limits<double>::infinity()), hi = -lo;
     size_t face_total = 0;
     for (const auto& fs : faces)
-        for (const Polygon& p : fs) {
+        for (const Polygon& p : fs.polygons) {
             ++face_total;
             for (const Vec3& x : p) lo = glm::min(lo, x), hi = glm::max(hi, x);
         }
@@ -677,18 +718,19 @@ double normalise(Scene& scene, const std::vector<std::vector<Polygon>>& faces,
 }
 
 // The objects and their faces in normalised coordinates, with planes, areas and twins.
-void add_objects(Scene& scene, const SceneDescription& d,
-                 const std::vector<std::vector<Polygon>>& faces) {
+void add_objects(Scene& scene, const SceneDescription& d, const std::vector<ObjectFaces>& faces) {
     for (size_t i = 0; i < d.objects.size(); ++i) {
         const ObjectDesc& o = d.objects[i];
         SceneObject so;
         so.name = o.name;
         so.type = o.type;
         so.first_face = static_cast<int>(scene.faces.size());
-        so.face_count = static_cast<int>(faces[i].size());
+        so.face_count = static_cast<int>(faces[i].polygons.size());
         scene.objects.push_back(so);
-        for (const Polygon& p : faces[i]) {
+        for (size_t k = 0; k < faces[i].polygons.size(); ++k) {
+            const Polygon& p = faces[i].polygons[k];
             Face f;
+            if (k < faces[i].uvs.size()) f.uv = faces[i].uvs[k];
             f.id = static_cast<int>(scene.faces.size());
             f.object = static_cast<int>(i);
             f.material = o.material;
@@ -720,15 +762,16 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     scene.materials = d.materials;
     scene.cameras = d.cameras;
     scene.load_notes = d.notes;
+    scene.textures = d.textures;
 
     double diameter = 0;
     const std::vector<std::vector<Polygon>> raw = transformed_shapes(d, meshes, diameter);
     if (!(diameter > 0) || !std::isfinite(diameter))
         fail(file, "objects", "the scene's geometry has no extent");
     const double tol = kRelativeTolerance * diameter;
-    std::vector<std::vector<Polygon>> faces(d.objects.size());
+    std::vector<ObjectFaces> faces(d.objects.size());
     for (size_t i = 0; i < d.objects.size(); ++i)
-        faces[i] = checked_faces(d.objects[i], raw[i], tol, file, scene.load_notes);
+        faces[i] = checked_faces(d.objects[i], raw[i], meshes[i], tol, file, scene.load_notes);
 
     const double half_diagonal = normalise(scene, faces, file);
     add_objects(scene, d, faces);
@@ -753,6 +796,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     build_charts(scene, texel, cap, options.chart_angle_deg);
     scene.seal_gap = texel;
     subtract_sealed_areas(scene, scene.seal_gap);
+    compute_texel_albedo(scene);
     return scene;
 }
 

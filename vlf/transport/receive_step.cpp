@@ -34,25 +34,36 @@ Received gather_received(const PassContext& pc, const DirectionGeometry& g, Frag
 }
 
 // VLF §4.2, the temporary radiance tile onto P^N: rho_d of each beam's power over the
-// texels its footprint overlaps, by overlap area.
-void receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f, FragRange frags,
-                     const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
-    const size_t tb = pc.tex.begin(pc.scene.faces[f].chart);
+// texels its footprint overlaps, by overlap area. A textured chart reflects with each
+// texel's albedo (texel_albedo.hpp); returns the power reflected (or lost), so the rest
+// of what the face received is absorbed.
+Rgb receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f, FragRange frags,
+                    const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
+    const Chart& chart = pc.scene.chart_of(pc.scene.faces[f]);
+    const size_t tb = pc.tex.begin(chart.id);
+    const std::vector<Rgb>& albedo = chart.texel_albedo;
+    Rgb reflected(0.0);
     for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
         for (uint32_t k = 0; k < fr.covered; ++k) {
-            const Rgb p = in[base + k] * diffuse;
+            const Rgb p = in[base + k];
             if (p.x <= 0 && p.y <= 0 && p.z <= 0) continue;
             const uint32_t ob = g.ov_begin[base + k], oe = g.ov_begin[base + k + 1];
             double rowsum = 0.0;
             for (uint32_t o = ob; o < oe; ++o) rowsum += g.ov[o].area;
             if (rowsum <= 0.0) {
-                res.lost.empty_footprint += p;
+                res.lost.empty_footprint += p * diffuse;
+                reflected += p * diffuse;
                 continue;
             }
-            for (uint32_t o = ob; o < oe; ++o)
-                res.next[tb + g.ov[o].texel] += p * (g.ov[o].area / rowsum);
+            for (uint32_t o = ob; o < oe; ++o) {
+                const Rgb rho = albedo.empty() ? diffuse : albedo[g.ov[o].texel];
+                const Rgb q = p * rho * (g.ov[o].area / rowsum);
+                res.next[tb + g.ov[o].texel] += q;
+                reflected += q;
+            }
         }
     });
+    return reflected;
 }
 
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
@@ -127,8 +138,12 @@ void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch&
         const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
         const Received r = gather_received(pc, g, frags, w.in);
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
-        res.absorbed += r.power * (Rgb(1.0) - mat.diffuse - mat.specular);
-        if (mat.is_diffuse()) receive_diffuse(pc, g, f, frags, mat.diffuse, w.in, res);
+        const bool textured = !pc.scene.chart_of(pc.scene.faces[f]).texel_albedo.empty();
+        if (!textured) res.absorbed += r.power * (Rgb(1.0) - mat.diffuse - mat.specular);
+        if (mat.is_diffuse()) {
+            const Rgb reflected = receive_diffuse(pc, g, f, frags, mat.diffuse, w.in, res);
+            if (textured) res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
+        }
         if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat.specular, w.in, res);
     }
 }

@@ -103,7 +103,10 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
             const Material& m = scene.material_of(f);
             const Chart& hc = scene.chart_of(f);
             const long texel = m.is_diffuse() ? texel_at(hc, hit.point) : -1;
-            Rgb diffuse = carried * m.diffuse;
+            // A textured chart's texel albedo (texel_albedo.hpp), else the material's.
+            Rgb diffuse =
+                carried * (texel >= 0 && !hc.texel_albedo.empty() ? hc.texel_albedo[size_t(texel)]
+                                                                  : m.diffuse);
             if (texel >= 0)
                 out.next[tex.begin(hc.id) + size_t(texel)] += diffuse;
             else

@@ -1,0 +1,57 @@
+// texel_albedo.cpp — per-texel mean albedo of textured charts (texel_albedo.hpp).
+#include "vlf/scene/texel_albedo.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vlf/core/parallel.hpp"
+
+namespace vlf {
+
+namespace {
+
+void chart_albedo(const Scene& scene, Chart& chart) {
+    const Material& m = scene.material_of(chart);
+    const TexelFrame& grid = chart.texels;
+    std::vector<Rgb> sum(size_t(grid.count()), Rgb(0.0));
+    std::vector<double> weight(size_t(grid.count()), 0.0);
+    for (int id : chart.faces) {
+        const Face& f = scene.faces[size_t(id)];
+        if (f.uv.size() != 3) continue;
+        const Vec3 &a = f.vertices[0], &b = f.vertices[1], &c = f.vertices[2];
+        const double longest =
+            std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        const int n = std::clamp(int(std::ceil(4.0 * longest / grid.size)), 1, 4096);
+        const double w = f.area / (double(n) * n);
+        // Sub-triangle centres of the n x n subdivision, in barycentric steps of 1/n.
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; i + j < n; ++j)
+                for (int up = 0; up < 2; ++up) {
+                    if (up && i + j + 1 >= n) continue;  // the upside-down ones fit inside
+                    const double s = (i + (up ? 2.0 : 1.0) / 3.0) / n;
+                    const double t = (j + (up ? 2.0 : 1.0) / 3.0) / n;
+                    const Vec3 x = a + s * (b - a) + t * (c - a);
+                    const Vec2 q = grid.to_texel(x);
+                    const int ti = std::clamp(int(std::floor(q.x)), 0, grid.width - 1);
+                    const int tj = std::clamp(int(std::floor(q.y)), 0, grid.height - 1);
+                    const size_t k = size_t(tj) * size_t(grid.width) + size_t(ti);
+                    sum[k] += w * scene.albedo_at(f, x);
+                    weight[k] += w;
+                }
+    }
+    chart.texel_albedo.assign(size_t(grid.count()), m.diffuse);
+    for (size_t k = 0; k < sum.size(); ++k)
+        if (weight[k] > 0) chart.texel_albedo[k] = sum[k] / weight[k];
+}
+
+}  // namespace
+
+void compute_texel_albedo(Scene& scene) {
+    parallel_for(0L, long(scene.charts.size()), [&](long c) {
+        Chart& chart = scene.charts[size_t(c)];
+        chart.texel_albedo.clear();
+        if (scene.material_of(chart).diffuse_texture >= 0) chart_albedo(scene, chart);
+    });
+}
+
+}  // namespace vlf
