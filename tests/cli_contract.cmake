@@ -198,6 +198,10 @@ expect_err_contains("repeated triangle(s) dropped")
 expect_exit(0 ${PROPAGATE} ${CBOX} --quality draft -o "${WORK_DIR}/cbox.vlf" -q)
 expect_exit(0 ${WALKTHROUGH} "${WORK_DIR}/cbox.vlf" --eye 0 1 3.6 --look-at 0 1 0 --fov 40
             --size 64x64 -o "${WORK_DIR}/cbox.png")
+# A camera behind the back wall sees only the backs of faces: a warning says why it is black.
+expect_exit(0 ${WALKTHROUGH} "${WORK_DIR}/cbox.vlf" --eye 0 1 -1.5 --look-at 0 1 0
+            --size 32x32 -o "${WORK_DIR}/behind.png")
+expect_err_contains("inside a wall or outside the room")
 file(WRITE "${WORK_DIR}/nan.obj" "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n")
 expect_exit(2 ${PROPAGATE} "${WORK_DIR}/nan.obj" --validate)
 expect_err_contains("nan.obj:3: vertex coordinate 'nan' is not a finite number")

@@ -297,5 +297,32 @@ TEST(SceneImport, MissingDirectoryAndUnknownFormat) {
     expect_load_error(json, json + ": objects[0].file: 'x.notaformat': no importer reads");
 }
 
+TEST(SceneImport, MeshFilesThatReadersWouldPadOrEmptyAreNamed) {
+    TempDir dir("meshfiles");
+    const std::string json_head = R"({"materials": {"l": {"emission": [1, 1, 1]}}, "objects": [
+            {"type": "mesh", "material": "l", "file": ")";
+    // An OFF header that promises more faces than follow (OpenMesh pads with copies).
+    dir.write("short.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n");
+    expect_load_error(dir.write("a.json", json_head + R"(short.off"}]})"),
+                      "OFF header says 3 faces, the file has 2");
+    // A binary STL whose count does not match its size.
+    std::string stl(80, '\0');
+    const uint32_t count = 3;
+    stl.append(reinterpret_cast<const char*>(&count), 4);
+    const float tri[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+    stl.append(reinterpret_cast<const char*>(tri), sizeof tri);
+    stl.append(2, '\0');
+    dir.write("bad.stl", stl);
+    expect_load_error(dir.write("b.json", json_head + R"(bad.stl"}]})"),
+                      "binary STL says 3 triangles, its 134 bytes hold 1");
+    // PLY triangle strips (OpenMesh skips them and finds no faces).
+    dir.write("strip.ply",
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_load_error(dir.write("c.json", json_head + R"(strip.ply"}]})"),
+                      "PLY triangle strips ('element tristrips') are not read");
+}
+
 }  // namespace
 }  // namespace vlf

@@ -53,6 +53,20 @@ TEST(TransportLedger, ClosedDiffuseSceneBalances) {
     EXPECT_GT(e.absorbed.x, 0.3 * e.emitted.x);
 }
 
+// A lamp over a black floor: after the first cycle nothing is left to shoot, and a run asked
+// for 50 cycles stops there instead of repeating zeros.
+TEST(TransportLedger, StopsWhenNothingIsLeftToShoot) {
+    const Scene scene = from_json(R"({"materials": {"black": {}, "lamp": {"emission": [1, 1, 1]}},
+        "objects": [{"type": "polygon", "material": "black",
+                     "vertices": [[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]},
+                    {"type": "polygon", "material": "lamp",
+                     "vertices": [[0.4, 0.5, 0.4], [0.6, 0.5, 0.4], [0.6, 0.5, 0.6], [0.4, 0.5, 0.6]]}]})");
+    PropagateParams p = params(33, 32, 8, 50);
+    const Propagation run = propagate(scene, p, RunOptions{});
+    EXPECT_LE(run.transport->ledger().size(), 2u);
+    EXPECT_EQ(run.transport->ledger().back().unshot, Rgb(0.0));
+}
+
 TEST(TransportLedger, ClosedSceneWithMirrorsBalances) {
     const Scene scene = test_scene("closed-mirror-room.json");
     ASSERT_GT(scene.specular_face_count(), 0);

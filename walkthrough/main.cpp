@@ -213,6 +213,12 @@ int run(const Options& o) {
         throw vlf::Error("--interactive: this build has no window support (GLFW not found)");
 #endif
     }
+    // A view that sees mostly the backs of faces renders mostly black: say why.
+    if (const double backs = renderer.back_face_fraction(cam, 32); backs > 0.5)
+        std::fprintf(stderr,
+                     "walkthrough: warning: %.0f%% of the view sees the backs of one-sided faces "
+                     "(black): is camera '%s' inside a wall or outside the room?\n",
+                     100.0 * backs, cam.name.c_str());
     const vlf::Stopwatch render_time;
     const vlf::Image im = renderer.render(cam, rs);
     const double s = render_time.seconds();

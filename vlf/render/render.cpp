@@ -306,4 +306,18 @@ PixelMask Renderer::emitter_mask(const Camera& camera, int width, int height, in
     return mask;
 }
 
+double Renderer::back_face_fraction(const Camera& camera, int n) const {
+    const PinholeCamera cam(camera, m_bake.scene.normalisation, n, n);
+    long backs = 0;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const Vec3 dir = cam.direction(x + 0.5, y + 0.5);
+            RayHit hit;
+            if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kInf, hit)) continue;
+            const Face& f = m_bake.scene.faces[hit.face];
+            if (glm::dot(dir, f.normal) >= 0.0 && f.twin < 0) ++backs;
+        }
+    return double(backs) / (double(n) * n);
+}
+
 }  // namespace vlf

@@ -64,6 +64,11 @@ class Renderer {
     // k < 1 or a bad size.
     PixelMask emitter_mask(const Camera& camera, int width, int height, int k) const;
 
+    // The fraction of an n x n grid of the camera's rays whose first hit is the back of a
+    // one-sided face: near 1 when the camera is inside a wall or outside a closed room
+    // (every such pixel renders black).
+    double back_face_fraction(const Camera& camera, int n) const;
+
     // Radiance along arbitrary primary rays (normalised coordinates, unit directions), one
     // value per ray, in settings.mode (width, height and pixel_samples are not used). For
     // Pathtrace, the mean of settings.spp paths, ray i on stream (settings.seed, i). For

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -104,6 +105,84 @@ void check_obj_text(const std::string& path, bool faces) {
     }
 }
 
+// An OFF file's header counts against its body (OpenMesh pads a short face list with copies
+// of the last face), and the face and element lines a binary STL's or PLY's reader would
+// misread or skip without a word.
+void check_off_text(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::string> words;
+    std::string line;
+    for (std::string w; std::getline(in, line);) {
+        const size_t hash = line.find('#');
+        std::istringstream ls(line.substr(0, hash));
+        while (ls >> w) words.push_back(w);
+    }
+    size_t at = 0;
+    if (at < words.size() && words[at].size() >= 3 &&
+        words[at].compare(words[at].size() - 3, 3, "OFF") == 0)
+        ++at;  // OFF, COFF, NOFF, ...: OpenMesh reads their extra columns itself
+    else
+        return;  // not plain text OFF (OpenMesh reports a binary one's problems)
+    if (words.size() < at + 3) throw Error(fmt::format("'{}': OFF header has no counts", path));
+    const long nv = std::strtol(words[at].c_str(), nullptr, 10);
+    const long nf = std::strtol(words[at + 1].c_str(), nullptr, 10);
+    if (nv < 0 || nf < 0) throw Error(fmt::format("'{}': OFF header counts are negative", path));
+    // Vertex lines may carry colours or normals; count the faces from the end instead:
+    // each face is "n i_1 .. i_n [colour]". Walk faces forwards after the vertices when the
+    // vertex lines have exactly 3 numbers (the common case).
+    size_t p = at + 3 + size_t(nv) * 3;
+    if (p > words.size())
+        throw Error(
+            fmt::format("'{}': OFF header says {} vertices, the file ends before them", path, nv));
+    long faces = 0;
+    while (p < words.size() && faces < nf) {
+        const long n = std::strtol(words[p].c_str(), nullptr, 10);
+        if (n < 1) break;
+        p += size_t(n) + 1;
+        if (p > words.size()) break;
+        ++faces;
+    }
+    if (faces < nf)
+        throw Error(
+            fmt::format("'{}': OFF header says {} faces, the file has {}", path, nf, faces));
+}
+
+void check_stl_size(const std::string& path) {
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
+    char head[84] = {};
+    in.read(head, 84);
+    if (ec || in.gcount() < 84) return;  // short: OpenMesh will say what it is
+    if (std::string(head, 5) == "solid") {
+        // ASCII unless the size says binary.
+        std::string text(head, 84);
+        if (text.find("facet") != std::string::npos || bytes < 84) return;
+    }
+    uint32_t count = 0;
+    std::memcpy(&count, head + 80, 4);
+    if (uint64_t(bytes) != 84 + 50 * uint64_t(count) && std::string(head, 5) != "solid")
+        throw Error(fmt::format("'{}': binary STL says {} triangles, its {} bytes hold {}", path,
+                                count, bytes, bytes >= 84 ? (bytes - 84) / 50 : 0));
+}
+
+void check_ply_header(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    for (int k = 0; k < 64 && std::getline(in, line); ++k) {
+        if (line.rfind("end_header", 0) == 0) return;
+        std::istringstream ls(line);
+        std::string word, element;
+        long n = 0;
+        ls >> word >> element >> n;
+        if (word == "element" && (element == "tristrips" || element == "triangle_strips"))
+            throw Error(
+                fmt::format("'{}': PLY triangle strips ('element {}') are not read; "
+                            "write the mesh as faces ('element face')",
+                            path, element));
+    }
+}
+
 bool is_supported_mesh_file(const std::string& path) {
     const std::string ext = lower_extension(path);
     return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
@@ -121,7 +200,11 @@ ImportedMesh import_mesh(const std::string& path) {
         throw Error(fmt::format(
             "mesh file '{}' has an unsupported extension (use .obj, .ply, .off or .stl)", path));
 
-    if (lower_extension(path) == ".obj") check_obj_text(path, true);
+    const std::string ext = lower_extension(path);
+    if (ext == ".obj") check_obj_text(path, true);
+    if (ext == ".off") check_off_text(path);
+    if (ext == ".stl") check_stl_size(path);
+    if (ext == ".ply") check_ply_header(path);
 
     ReadMesh mesh;
     std::string log;

@@ -14,6 +14,8 @@
 namespace vlf {
 
 bool settled(const LedgerEntry& e, double stop_unshot) {
+    // Nothing left to shoot: more cycles would only repeat zeros (whatever the stop rule).
+    if (e.unshot + e.deferred == Rgb(0.0)) return true;
     if (stop_unshot <= 0.0) return false;
     for (int c = 0; c < 3; ++c)
         if (e.unshot[c] + e.deferred[c] > stop_unshot * e.emitted[c]) return false;

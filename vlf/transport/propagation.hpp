@@ -27,7 +27,8 @@ struct Propagation {
 
 // Runs up to params.cycles cycles, stopping early once settled(ledger, stop_unshot).
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts);
-// Less than `stop_unshot` of the emitted power (every channel) is left to shoot.
+// Less than `stop_unshot` of the emitted power (every channel) is left to shoot, or nothing
+// at all is (then more cycles would only repeat zeros, whatever the stop rule).
 bool settled(const LedgerEntry& e, double stop_unshot);
 
 // Per face: {"id", "object", "material", "area", "radiance_mean", "radiance_min",
