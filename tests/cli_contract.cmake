@@ -226,3 +226,20 @@ expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --texel-size 0)
 expect_err_contains("--texel-size: 0 must be a positive length")
 expect_exit(2 ${PROPAGATE} ${SCENE} -o "${WORK_DIR}/nodir/x.vlf")
 expect_err_contains("does not exist")
+file(WRITE "${WORK_DIR}/far.json" [=[{"materials": {"l": {"emission": [1, 1, 1]}},
+  "objects": [{"type": "box", "min": [0,0,0], "max": [1,1,1], "flip": true, "material": "l"},
+              {"type": "polygon", "material": "l", "vertices": [[0,0,0],[1e30,0,0],[0,1,0]]}]}]=])
+expect_exit(2 ${PROPAGATE} "${WORK_DIR}/far.json" --validate)
+expect_err_contains("objects[1].vertices[1]: lies at [1e+30, 0, 0]")
+file(MAKE_DIRECTORY "${WORK_DIR}/dir.obj")
+file(WRITE "${WORK_DIR}/dirmesh.json" [=[{"materials": {"l": {"emission": [1, 1, 1]}},
+  "objects": [{"type": "mesh", "material": "l", "file": "dir.obj"}]}]=])
+expect_exit(2 ${PROPAGATE} "${WORK_DIR}/dirmesh.json" --validate)
+expect_err_contains("objects[0].file: mesh file")
+expect_err_contains("is a directory")
+expect_exit(2 ${WALKTHROUGH} "${WORK_DIR}/cbox.vlf" --eye 0 1 3.6 --look-at 0 1 0 --fov 0
+            --size 32x32 -o "${WORK_DIR}/fov.png")
+expect_err_contains("fov 0 outside (0, 180) degrees")
+expect_exit(2 ${WALKTHROUGH} "${WORK_DIR}/cbox.vlf" --eye 1e300 1 3.6 --look-at 0 1 0
+            --size 32x32 -o "${WORK_DIR}/far.png")
+expect_err_contains("out of range")

@@ -83,6 +83,9 @@ using Reader = OrderedJsonReader;
 
 constexpr double kRelativeTolerance = 1e-6;
 constexpr double kMaxEmission = 1e20;
+// Scene coordinates (after transforms) beyond this are refused: with the relative tolerance
+// above, a scene that large cannot hold millimetre detail anywhere.
+constexpr double kMaxCoordinate = 1e15;
 constexpr double kNormalisedRadius = 0.999;  // geometry strictly inside the unit ball
 
 [[noreturn]] void fail(const std::string& file, const std::string& place, const std::string& what) {
@@ -576,16 +579,30 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
 // bounding box.
 std::vector<std::vector<Polygon>> transformed_shapes(const SceneDescription& d,
                                                      const std::vector<ImportedMesh>& meshes,
-                                                     double& diameter) {
+                                                     double& diameter, const std::string& file) {
     std::vector<std::vector<Polygon>> raw(d.objects.size());
     Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (size_t i = 0; i < d.objects.size(); ++i) {
+        const ObjectDesc& o = d.objects[i];
         Vec3 pivot;
-        raw[i] = shape_faces(d.objects[i], meshes[i], pivot);
-        const Transform xf(d.objects[i], pivot);
-        for (Polygon& p : raw[i])
-            for (Vec3& x : p) {
+        raw[i] = shape_faces(o, meshes[i], pivot);
+        const Transform xf(o, pivot);
+        for (size_t k = 0; k < raw[i].size(); ++k)
+            for (size_t j = 0; j < raw[i][k].size(); ++j) {
+                Vec3& x = raw[i][k][j];
                 x = xf(x);
+                // Far-out points would make every other face degenerate at the scene's
+                // relative tolerance: name the point instead.
+                if (!(std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z)}) <= kMaxCoordinate)) {
+                    const std::string at =
+                        o.type == "polygon"
+                            ? fmt::format("{}.vertices[{}]", o.place, j)
+                            : fmt::format("{} ({}): face {} vertex {}", o.place, o.type, k, j);
+                    fail(file, at,
+                         fmt::format("lies at [{:.3g}, {:.3g}, {:.3g}], beyond +-{:.0e} scene "
+                                     "units (after the object's transform)",
+                                     x.x, x.y, x.z, kMaxCoordinate));
+                }
                 lo = glm::min(lo, x), hi = glm::max(hi, x);
             }
     }
@@ -765,7 +782,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     scene.textures = d.textures;
 
     double diameter = 0;
-    const std::vector<std::vector<Polygon>> raw = transformed_shapes(d, meshes, diameter);
+    const std::vector<std::vector<Polygon>> raw = transformed_shapes(d, meshes, diameter, file);
     if (!(diameter > 0) || !std::isfinite(diameter))
         fail(file, "objects", "the scene's geometry has no extent");
     const double tol = kRelativeTolerance * diameter;
