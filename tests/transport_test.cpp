@@ -67,6 +67,26 @@ TEST(TransportLedger, StopsWhenNothingIsLeftToShoot) {
     EXPECT_EQ(run.transport->ledger().back().unshot, Rgb(0.0));
 }
 
+// The public Cornell box OBJ hangs its lamp 1 cm under the ceiling, closer than a texel:
+// the ceiling's texels above the lamp are sealed (sealed_areas.hpp). Grazing beams still run
+// into the gap; their power must not pile up in texels with no open area (it did: ceiling
+// texels of 1e13 W m^-2 sr^-1 beside a lamp of 17). No texel of a surface that does not emit
+// may be brighter than the lamp, and the ledger closes.
+TEST(TransportLedger, LampUnderTheCeilingLeavesNoBlazingTexels) {
+    const Scene scene =
+        load_scene(test::source_path("scenes/models/cornell-box/CornellBox-Original.obj"));
+    const auto t = run(scene, params(513, 64, 8, 2));
+    for (const LedgerEntry& e : t->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
+    const TextureMaps& tex = t->texture_maps();
+    double brightest = 0.0;
+    for (const Chart& c : scene.charts) {
+        if (scene.material_of(c).is_emitter()) continue;
+        for (size_t k = 0; k < tex.count(c.id); ++k)
+            if (c.texel_area[k] > 0.0) brightest = std::max(brightest, tex.radiance(c, k).x);
+    }
+    EXPECT_LT(brightest, 17.0);
+}
+
 TEST(TransportLedger, ClosedSceneWithMirrorsBalances) {
     const Scene scene = test_scene("closed-mirror-room.json");
     ASSERT_GT(scene.specular_face_count(), 0);

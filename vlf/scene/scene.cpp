@@ -5,7 +5,7 @@
 
 namespace vlf {
 
-Rgb Scene::albedo_at(const Face& f, const Vec3& x) const {
+Rgb Scene::albedo_at(const Face& f, const Vec3& x, double footprint) const {
     const Material& m = material_of(f);
     if (m.diffuse_texture < 0 || f.uv.size() != 3) return m.diffuse;
     // Barycentric coordinates of x in the triangle (x lies on its plane).
@@ -19,7 +19,7 @@ Rgb Scene::albedo_at(const Face& f, const Vec3& x) const {
     const Vec2 uv = f.uv[0] + s * (f.uv[1] - f.uv[0]) + t * (f.uv[2] - f.uv[0]);
     const Texture& tex = textures[size_t(m.diffuse_texture)];
     const Rgb mean = tex.average;
-    const Rgb local = tex.at(uv);
+    const Rgb local = tex.filtered(uv, footprint);
     Rgb out;
     for (int ch = 0; ch < 3; ++ch)
         out[ch] = mean[ch] > 0 ? m.diffuse[ch] * local[ch] / mean[ch] : 0.0;

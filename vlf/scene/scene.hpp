@@ -93,6 +93,11 @@ struct Chart {
     // A textured material's mean albedo per texel (texel_albedo.hpp), else empty: the
     // material's `diffuse` holds everywhere.
     std::vector<Rgb> texel_albedo;
+    // Per texel, the part of its surface that is not sealed behind another face
+    // (sealed_areas.hpp), in [0, 1]; empty when nothing of the chart is sealed. Light a
+    // beam lands on the sealed part is lost into the gap (receive_step.cpp). Derived at
+    // load; not in the bake (rendering does not need it).
+    std::vector<double> texel_open;
 };
 
 struct SceneObject {
@@ -142,7 +147,8 @@ struct Scene {
     const Chart& chart_of(const Face& f) const { return charts[f.chart]; }
     // The diffuse albedo at point x (normalised units) of face f: the material's, modulated
     // by its texture where it has one (Material::diffuse_texture).
-    Rgb albedo_at(const Face& f, const Vec3& x) const;
+    // `footprint`: the texture's mean over about that many texture pixels (mip levels).
+    Rgb albedo_at(const Face& f, const Vec3& x, double footprint = 0.0) const;
     int emitter_count() const;        // faces whose material emits
     int specular_face_count() const;  // faces whose material has rho_s > 0
 };

@@ -11,6 +11,8 @@
 namespace vlf {
 
 void subtract_sealed_areas(Scene& scene, double gap) {
+    std::vector<std::vector<double>> before(scene.charts.size());
+    for (Chart& c : scene.charts) c.texel_open.clear();
     // Faces grouped by orientation (normals equal to 1e-6), each group sorted by offset.
     std::map<std::tuple<long, long, long>, std::vector<int>> groups;
     for (const Face& f : scene.faces)
@@ -44,6 +46,7 @@ void subtract_sealed_areas(Scene& scene, double gap) {
                           i1 = std::min(tf.width - 1, int(std::floor(hi_u)));
                 const int j0 = std::max(0, int(std::floor(lo_v))),
                           j1 = std::min(tf.height - 1, int(std::floor(hi_v)));
+                if (before[size_t(chart.id)].empty()) before[size_t(chart.id)] = chart.texel_area;
                 for (int v = j0; v <= j1; ++v)
                     for (int u = i0; u <= i1; ++u) {
                         double& a = chart.texel_area[size_t(v) * tf.width + u];
@@ -53,6 +56,14 @@ void subtract_sealed_areas(Scene& scene, double gap) {
                     }
             }
         }
+    }
+    // The open part of each texel of the charts that lost any (receive_step.cpp).
+    for (Chart& c : scene.charts) {
+        const std::vector<double>& full = before[size_t(c.id)];
+        if (full.empty()) continue;
+        c.texel_open.resize(full.size());
+        for (size_t k = 0; k < full.size(); ++k)
+            c.texel_open[k] = full[k] > 0 ? std::clamp(c.texel_area[k] / full[k], 0.0, 1.0) : 1.0;
     }
 }
 

@@ -10,6 +10,9 @@ namespace vlf {
 
 namespace {
 
+// At most this many samples along a triangle's side (a million per triangle).
+constexpr int kMaxSamplesPerSide = 1024;
+
 void chart_albedo(const Scene& scene, Chart& chart) {
     const Material& m = scene.material_of(chart);
     const TexelFrame& grid = chart.texels;
@@ -21,7 +24,17 @@ void chart_albedo(const Scene& scene, Chart& chart) {
         const Vec3 &a = f.vertices[0], &b = f.vertices[1], &c = f.vertices[2];
         const double longest =
             std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-        const int n = std::clamp(int(std::ceil(4.0 * longest / grid.size)), 1, 4096);
+        // 4 samples per texel side; each sample is the texture's mean over its own share
+        // of the triangle (a mip lookup as wide as the texture pixels between samples), so
+        // thin features of the texture are neither missed nor aliased.
+        const Texture& tex = scene.textures[size_t(m.diffuse_texture)];
+        double pixels = 0.0;
+        for (int e = 0; e < 3; ++e) {
+            const Vec2 d = f.uv[size_t((e + 1) % 3)] - f.uv[size_t(e)];
+            pixels = std::max({pixels, std::abs(d.x) * tex.width, std::abs(d.y) * tex.height});
+        }
+        const int n = std::clamp(int(std::ceil(4.0 * longest / grid.size)), 1, kMaxSamplesPerSide);
+        const double footprint = pixels / n;
         const double w = f.area / (double(n) * n);
         // Sub-triangle centres of the n x n subdivision, in barycentric steps of 1/n.
         for (int i = 0; i < n; ++i)
@@ -35,7 +48,7 @@ void chart_albedo(const Scene& scene, Chart& chart) {
                     const int ti = std::clamp(int(std::floor(q.x)), 0, grid.width - 1);
                     const int tj = std::clamp(int(std::floor(q.y)), 0, grid.height - 1);
                     const size_t k = size_t(tj) * size_t(grid.width) + size_t(ti);
-                    sum[k] += w * scene.albedo_at(f, x);
+                    sum[k] += w * scene.albedo_at(f, x, footprint);
                     weight[k] += w;
                 }
     }

@@ -10,7 +10,8 @@ namespace vlf {
 
 // Fills Chart::texel_albedo for every chart whose material has a diffuse texture (and
 // clears it elsewhere). Each triangle is sampled at the centres of an n x n subdivision,
-// n = ceil(4 x its longest edge / the texel size): about 16 samples per texel.
+// n = ceil(max(4 x its longest edge / the texel size, 2 x the texture pixels it spans)),
+// at most 1024: 16 or more samples per texel, 4 or more per texture pixel.
 void compute_texel_albedo(Scene& scene);
 
 }  // namespace vlf

@@ -20,10 +20,21 @@ struct Texture {
     // Linear RGB at (u, v), bilinear between texel centres, wrapping.
     Rgb at(const Vec2& uv) const;
     // The mean linear colour of all texels, and the same kept by finish() (call it once
-    // the texels are in place).
+    // the texels are in place; it also builds the mip levels).
     Rgb mean() const;
     Rgb average{1.0};
-    void finish() { average = mean(); }
+    void finish();
+
+    // The mean colour over a footprint about `pixels` texture pixels wide around (u, v):
+    // trilinear between box-filtered mip levels (pixels <= 1 is at()).
+    Rgb filtered(const Vec2& uv, double pixels) const;
+
+    // Linear RGB mip levels (level 0 = the texels), each half the last, box-filtered.
+    struct Level {
+        int width = 0, height = 0;
+        std::vector<float> rgb;
+    };
+    std::vector<Level> levels;
 };
 
 // sRGB-encoded 8-bit value to linear [0, 1].

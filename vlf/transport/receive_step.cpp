@@ -12,6 +12,10 @@ namespace vlf::transport_detail {
 
 namespace {
 
+// Below this open fraction a texel counts as sealed (receive_diffuse): numerically
+// nothing of it is open.
+constexpr double kSealedTexel = 1e-3;
+
 // What a face receives in one direction: the power on its rays, and their bounding box on
 // the exchange grid (by whole tile columns).
 struct Received {
@@ -42,6 +46,7 @@ Rgb receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
     const Chart& chart = pc.scene.chart_of(pc.scene.faces[f]);
     const size_t tb = pc.tex.begin(chart.id);
     const std::vector<Rgb>& albedo = chart.texel_albedo;
+    const std::vector<double>& open = chart.texel_open;
     Rgb reflected(0.0);
     for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
         for (uint32_t k = 0; k < fr.covered; ++k) {
@@ -58,8 +63,16 @@ Rgb receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
             for (uint32_t o = ob; o < oe; ++o) {
                 const Rgb rho = albedo.empty() ? diffuse : albedo[g.ov[o].texel];
                 const Rgb q = p * rho * (g.ov[o].area / rowsum);
-                res.next[tb + g.ov[o].texel] += q;
                 reflected += q;
+                // A texel sealed behind another face (sealed_areas.hpp) is reached only by
+                // grazing beams running into the gap. With no open area to hold it, what
+                // it reflects goes to the sealing face's back, one-sided and black, which
+                // absorbs it (the gap is narrower than a texel). A texel with an open part
+                // keeps what lands.
+                if (!open.empty() && open[g.ov[o].texel] < kSealedTexel)
+                    res.absorbed_back += q;
+                else
+                    res.next[tb + g.ov[o].texel] += q;
             }
         }
     });
