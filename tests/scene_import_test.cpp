@@ -297,6 +297,38 @@ TEST(SceneImport, MissingDirectoryAndUnknownFormat) {
     expect_load_error(json, json + ": objects[0].file: 'x.notaformat': no importer reads");
 }
 
+TEST(SceneImport, MalformedFilesAndKeysAreNamed) {
+    TempDir dir("malformed");
+    // A glTF extension value that is not a number.
+    std::string g = quad_gltf();
+    const std::string strength = "\"emissiveStrength\": 4";
+    g.replace(g.find(strength), strength.size(), "\"emissiveStrength\": \"x\"");
+    expect_load_error(dir.write("q.gltf", g),
+                      "materials[1].extensions.KHR_materials_emissive_strength.emissiveStrength: "
+                      "expected a number >= 0");
+    // An OBJ face naming a vertex that does not exist (import and mesh objects alike).
+    dir.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+    expect_load_error(dir.write("a.json", R"({"materials": {"l": {"emission": [1, 1, 1]}},
+        "objects": [{"type": "mesh", "file": "m.obj", "material": "l"}]})"),
+                      "m.obj:4: face vertex '7' is not one of the 3 vertices so far");
+    // An imported OFF whose body is shorter than its header.
+    dir.write("s.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n");
+    expect_load_error(dir.write("b.json", R"({"materials": {"l": {"emission": [1, 1, 1]}},
+        "objects": [{"type": "import", "file": "s.off", "material": "l"}]})"),
+                      "OFF header says 3 faces, the file has 2");
+    // "material" and "materials" together.
+    dir.write("quads.gltf", quad_gltf());
+    expect_load_error(dir.write("c.json", R"({"materials": {"l": {"emission": [1, 1, 1]}},
+        "objects": [{"type": "import", "file": "quads.gltf", "material": "l",
+                     "materials": {"paint": "l"}}]})"),
+                      "objects[0].materials: cannot be combined with \"material\"");
+    // A colour OFF (COFF) is OpenMesh's to read: not refused by the plain-OFF check.
+    dir.write("c.off",
+              "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 255 0 0 255\n0 1 0 255 0 0 255\n3 0 1 2\n");
+    EXPECT_NO_THROW(load_scene(dir.write("d.json", R"({"materials": {"l": {"emission": [1, 1, 1]}},
+        "objects": [{"type": "mesh", "file": "c.off", "material": "l"}]})")));
+}
+
 TEST(SceneImport, MeshFilesThatReadersWouldPadOrEmptyAreNamed) {
     TempDir dir("meshfiles");
     const std::string json_head = R"({"materials": {"l": {"emission": [1, 1, 1]}}, "objects": [

@@ -179,6 +179,20 @@ TEST(Texture, PropagationReflectsEachTexelsAlbedo) {
     }
 }
 
+// A texture on a material that reflects nothing diffusely (a mirror with map_Kd) is not a
+// texture of its albedo: nothing is textured, and the ledger closes.
+TEST(Texture, MirrorWithATextureKeepsTheLedger) {
+    TempDir dir("mirror");
+    dir.write("t.ppm", ppm(2, 2, kChecker));
+    dir.write("m.mtl",
+              "newmtl floor\nKd 0 0 0\nKs 0.5 0.5 0.5\nillum 3\nmap_Kd t.ppm\n"
+              "newmtl lamp\nKd 0 0 0\nKe 5 5 5\n");
+    const Scene s = load_scene(dir.write("floor.obj", floor_obj()));
+    EXPECT_TRUE(s.chart_of(first_face_of(s, "floor/floor")).texel_albedo.empty());
+    const auto t = run(s, test::params(129, 32, 8, 3));
+    for (const LedgerEntry& e : t->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
+}
+
 // Texture mode shows the texture at full resolution: inside one texel the rendered colour
 // follows the texture, and the bake round trip keeps textures and coordinates.
 TEST(Texture, BakeKeepsTexturesAndRendersThemAtFullResolution) {

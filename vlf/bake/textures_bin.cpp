@@ -24,7 +24,6 @@ namespace vlf {
 namespace {
 
 constexpr char kMagic[8] = {'V', 'L', 'F', 'T', 'E', 'X', '0', '1'};
-constexpr int64_t kMaxTextureTexels = int64_t(1) << 28;
 
 template <class T>
 void put(std::vector<char>& out, const T& v) {
@@ -52,6 +51,7 @@ class Reader {
         std::memcpy(to, m_bytes.data() + m_at, n);
         m_at += n;
     }
+    size_t left() const { return m_bytes.size() - m_at; }
     void expect_end() const {
         if (m_at != m_bytes.size())
             fail(fmt::format("{} bytes after the last array", m_bytes.size() - m_at));
@@ -104,13 +104,16 @@ void read_textures(const std::string& file, Scene& scene) {
     for (size_t k = 0; k < T; ++k) {
         Texture& t = scene.textures[k];
         const uint32_t L = r.get<uint32_t>("a texture name");
-        if (L > 4096) r.fail(fmt::format("texture {}: implausible name length {}", k, L));
+        if (L > kMaxTextureName)
+            r.fail(fmt::format("texture {}: implausible name length {}", k, L));
         t.name.resize(L);
         r.bytes(t.name.data(), L, "a texture name");
         t.width = r.get<int32_t>("a texture size");
         t.height = r.get<int32_t>("a texture size");
         if (t.width <= 0 || t.height <= 0 || int64_t(t.width) * t.height > kMaxTextureTexels)
             r.fail(fmt::format("texture {}: implausible size {} x {}", k, t.width, t.height));
+        if (r.left() < size_t(t.width) * size_t(t.height) * 3)
+            r.fail(fmt::format("texture {}: truncated in its texels", k));
         t.srgb.resize(size_t(t.width) * size_t(t.height) * 3);
         r.bytes(t.srgb.data(), t.srgb.size(), "texture texels");
         t.finish();
@@ -127,6 +130,7 @@ void read_textures(const std::string& file, Scene& scene) {
         const uint32_t id = r.get<uint32_t>("a face index");
         if (id >= scene.faces.size()) r.fail(fmt::format("face index {} out of range", id));
         Face& f = scene.faces[id];
+        if (!f.uv.empty()) r.fail(fmt::format("face {} has texture coordinates twice", id));
         f.uv.resize(f.vertices.size());
         for (Vec2& uv : f.uv) {
             uv.x = r.get<double>("texture coordinates");

@@ -91,8 +91,15 @@ void check_obj_text(const std::string& path, bool faces) {
             std::vector<long> idx;
             for (std::string w; words >> w;) {
                 if (w[0] == '#') break;
-                const long i = std::strtol(w.c_str(), nullptr, 10);
-                idx.push_back(i < 0 ? vertices + 1 + i : i);  // 1-based; negative: relative
+                char* end = nullptr;
+                const long i = std::strtol(w.c_str(), &end, 10);
+                const long v = i < 0 ? vertices + 1 + i : i;  // 1-based; negative: relative
+                if (end == w.c_str() || v < 1 || v > vertices)
+                    throw Error(
+                        fmt::format("{}:{}: face vertex '{}' is not one of the {} "
+                                    "vertices so far",
+                                    path, number, w, vertices));
+                idx.push_back(v);
             }
             if (idx.size() < 3)
                 throw Error(fmt::format("{}:{}: face has {} vertex index(es) (needs at least 3)",
@@ -118,15 +125,17 @@ void check_off_text(const std::string& path) {
         while (ls >> w) words.push_back(w);
     }
     size_t at = 0;
-    if (at < words.size() && words[at].size() >= 3 &&
-        words[at].compare(words[at].size() - 3, 3, "OFF") == 0)
-        ++at;  // OFF, COFF, NOFF, ...: OpenMesh reads their extra columns itself
+    if (at < words.size() && words[at] == "OFF")
+        ++at;
     else
-        return;  // not plain text OFF (OpenMesh reports a binary one's problems)
+        return;  // COFF, NOFF, binary, ...: their extra columns are OpenMesh's to read
     if (words.size() < at + 3) throw Error(fmt::format("'{}': OFF header has no counts", path));
     const long nv = std::strtol(words[at].c_str(), nullptr, 10);
     const long nf = std::strtol(words[at + 1].c_str(), nullptr, 10);
     if (nv < 0 || nf < 0) throw Error(fmt::format("'{}': OFF header counts are negative", path));
+    if (size_t(nv) > words.size() / 3)
+        throw Error(
+            fmt::format("'{}': OFF header says {} vertices, the file ends before them", path, nv));
     // Vertex lines may carry colours or normals; count the faces from the end instead:
     // each face is "n i_1 .. i_n [colour]". Walk faces forwards after the vertices when the
     // vertex lines have exactly 3 numbers (the common case).

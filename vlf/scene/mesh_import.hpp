@@ -21,6 +21,12 @@ struct ImportedMesh {
 // vlf::Error "<path>:<line>: <what>".
 void check_obj_text(const std::string& path, bool faces);
 
+// The same for OFF (the header's counts against the body), binary STL (the triangle count
+// against the size) and PLY (triangle strips are refused): "'<path>': <what>".
+void check_off_text(const std::string& path);
+void check_stl_size(const std::string& path);
+void check_ply_header(const std::string& path);
+
 // True when the file name ends in a supported extension (.obj .ply .off .stl, any case).
 bool is_supported_mesh_file(const std::string& path);
 

@@ -5,13 +5,14 @@
 // emitter, DESIGN §3):
 //   OBJ/MTL   Kd -> diffuse; illum 3 or 5 (reflection on) -> Ks as the mirror's reflectance,
 //             else Ks is a Phong highlight and left out; Ke -> emission (radiance).
-//   glTF      baseColor x (1 - metallic) -> diffuse; metallic 1 and roughness 0 -> mirror of
-//             reflectance baseColor; emissive x KHR_materials_emissive_strength -> emission;
+//   glTF      metallic 1 and roughness 0 (factors x the metallic-roughness texture's mean)
+//             -> mirror of reflectance baseColor; anything else -> diffuse baseColor (a
+//             glossy metal noted); emissive x KHR_materials_emissive_strength -> emission;
 //             transmission and ior are listed as left out (dielectrics: issue 14).
 //   others    the diffuse and emissive colours; a reflective colour with reflectivity > 0
 //             -> mirror.
-// A diffuse colour texture (map_Kd, the base-colour texture) multiplies the diffuse colour
-// by its mean linear colour (sRGB decoded); the texture itself is listed as left out.
+// A diffuse colour texture (map_Kd, the base-colour texture) is kept (ImportedGroup::texture);
+// the material's diffuse is the colour x the texture's mean linear colour (sRGB decoded).
 // Where diffuse + specular exceeds 1 in a channel both are scaled down to sum to 1.
 #include "vlf/scene/scene_import.hpp"
 
@@ -33,6 +34,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/files.hpp"
@@ -76,6 +78,10 @@ std::optional<Texture> read_texture(const aiScene& scene, const std::string& mod
         stbi_image_free(pixels);
     }
     if (out.width <= 0 || out.height <= 0) return std::nullopt;
+    if (int64_t(out.width) * out.height > kMaxTextureTexels)
+        throw Error(fmt::format("texture '{}' has {} x {} texels (at most {} in all)", name,
+                                out.width, out.height, kMaxTextureTexels));
+    if (out.name.size() > kMaxTextureName) out.name.resize(kMaxTextureName);
     out.finish();
     return out;
 }
@@ -106,6 +112,14 @@ GltfExtras gltf_extras(const std::string& path) {
         text = text.substr(20, length);
     }
     const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    // A number where the file has one; anything else is refused by name.
+    auto number = [&](const nlohmann::json& o, const char* key, double fallback,
+                      const std::string& place) {
+        if (!o.contains(key)) return fallback;
+        if (!o[key].is_number() || !std::isfinite(o[key].get<double>()) || o[key].get<double>() < 0)
+            throw Error(fmt::format("{}: {}.{}: expected a number >= 0", path, place, key));
+        return o[key].get<double>();
+    };
     if (j.is_discarded() || !j.is_object()) return out;
     for (const auto& m : j.value("materials", nlohmann::json::array())) {
         double strength = 1.0;
@@ -113,14 +127,18 @@ GltfExtras gltf_extras(const std::string& path) {
             const auto& e = m["extensions"];
             if (e.contains("KHR_materials_emissive_strength") &&
                 e["KHR_materials_emissive_strength"].is_object())
-                strength = e["KHR_materials_emissive_strength"].value("emissiveStrength", 1.0);
+                strength = number(e["KHR_materials_emissive_strength"], "emissiveStrength", 1.0,
+                                  fmt::format("materials[{}].extensions."
+                                              "KHR_materials_emissive_strength",
+                                              out.emissive_strength.size()));
         }
         out.emissive_strength.push_back(strength);
     }
     for (const auto& c : j.value("cameras", nlohmann::json::array())) {
         double yfov = 0.0;
         if (c.is_object() && c.contains("perspective") && c["perspective"].is_object())
-            yfov = c["perspective"].value("yfov", 0.0);
+            yfov = number(c["perspective"], "yfov", 0.0,
+                          fmt::format("cameras[{}].perspective", out.yfov.size()));
         out.yfov.push_back(yfov);
     }
     return out;
@@ -171,15 +189,32 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
     }
 
     if (gltf) {
+        // The metallic-roughness texture scales the factors (metalness in blue, roughness
+        // in green, linear).
+        aiString mr;
+        if (m.GetTexture(AI_MATKEY_GLTF_PBRMETALLICROUGHNESS_METALLICROUGHNESS_TEXTURE, &mr) ==
+            AI_SUCCESS) {
+            if (const auto t = read_texture(scene, dir, mr.C_Str())) {
+                double g_sum = 0.0, b_sum = 0.0;
+                const size_t n = size_t(t->width) * size_t(t->height);
+                for (size_t k = 0; k < n; ++k)
+                    g_sum += t->srgb[3 * k + 1], b_sum += t->srgb[3 * k + 2];
+                roughness *= g_sum / (255.0 * double(n));
+                metallic *= b_sum / (255.0 * double(n));
+            }
+        }
         const bool mirror = metallic >= 1.0 && roughness <= 0.0;
         if (mirror) {
             out.specular = base;
         } else {
-            out.diffuse = base * (1.0 - std::clamp(metallic, 0.0, 1.0));
+            // A glossy or partly metallic surface scatters its base colour broadly: the
+            // nearest VLF surface is diffuse of the base colour.
+            out.diffuse = base;
             if (metallic > 0.0)
                 note(
-                    fmt::format("metallic {:.3g} with roughness {:.3g} (only metallic 1 with "
-                                "roughness 0 is a mirror; the rest is diffuse)",
+                    fmt::format("metallic {:.3g} with roughness {:.3g} (a glossy metal: taken "
+                                "as diffuse of the base colour; only metallic 1 with roughness "
+                                "0 is a mirror)",
                                 metallic, roughness));
         }
         if (m.Get(AI_MATKEY_TRANSMISSION_FACTOR, x) == AI_SUCCESS && x > 0.0f) {
@@ -299,8 +334,12 @@ struct Collector {
     }
 };
 
-std::vector<Camera> cameras_of(const aiScene& scene, const GltfExtras* gltf) {
+// The file's cameras that make a view (finite, a view direction, an up not along it, a
+// field of view in (0, 180)); the others are listed in `left_out`. Names are made unique.
+std::vector<Camera> cameras_of(const aiScene& scene, const GltfExtras* gltf,
+                               std::vector<std::string>& left_out) {
     std::vector<Camera> out;
+    std::set<std::string> names;
     for (unsigned k = 0; k < scene.mNumCameras; ++k) {
         const aiCamera& c = *scene.mCameras[k];
         const aiMatrix4x4 xf = global_transform(scene.mRootNode->FindNode(c.mName));
@@ -311,16 +350,32 @@ std::vector<Camera> cameras_of(const aiScene& scene, const GltfExtras* gltf) {
         cam.name = c.mName.length ? c.mName.C_Str() : fmt::format("camera#{}", k);
         cam.eye = to_vec(xf * position);
         cam.look_at = to_vec(xf * (position + c.mLookAt));
-        cam.up = glm::normalize(to_vec(rot * c.mUp));
+        cam.up = to_vec(rot * c.mUp);
         // mHorizontalFOV is half the horizontal angle; VLF cameras give the vertical one.
         const double aspect = c.mAspect > 0 ? c.mAspect : 1.0;
         const double half_v = std::atan(std::tan(double(c.mHorizontalFOV)) / aspect);
         cam.fov_y_deg = 2.0 * half_v * 180.0 / kPi;
         if (gltf && k < gltf->yfov.size() && gltf->yfov[k] > 0)
             cam.fov_y_deg = gltf->yfov[k] * 180.0 / kPi;
-        if (c.mHorizontalFOV > 0 && cam.fov_y_deg > 0 && cam.fov_y_deg < 180 &&
-            glm::length(cam.look_at - cam.eye) > 0)
-            out.push_back(cam);
+        const Vec3 view = cam.look_at - cam.eye;
+        const bool finite = std::isfinite(glm::length(view)) &&
+                            std::isfinite(glm::length(cam.eye)) &&
+                            std::isfinite(glm::length(cam.up));
+        const bool ok =
+            finite && glm::length(view) > 0 && glm::length(cam.up) > 0 &&
+            glm::length(glm::cross(glm::normalize(view), glm::normalize(cam.up))) > 1e-6 &&
+            cam.fov_y_deg > 0 && cam.fov_y_deg < 180;
+        if (!ok) {
+            left_out.push_back(
+                fmt::format("camera '{}' (it makes no view: no direction, an up "
+                            "along it or a field of view outside (0, 180))",
+                            cam.name));
+            continue;
+        }
+        cam.up = glm::normalize(cam.up);
+        for (int n = 2; !names.insert(cam.name).second; ++n)
+            cam.name = fmt::format("{}#{}", c.mName.C_Str(), n);
+        out.push_back(cam);
     }
     return out;
 }
@@ -361,7 +416,11 @@ ImportedScene import_scene_file(const std::string& path) {
         throw Error(fmt::format("scene file '{}' cannot be read", path));
     if (!is_importable_scene_file(path))
         throw Error(fmt::format("'{}': no importer reads '{}' files", path, lower_extension(path)));
-    if (lower_extension(path) == ".obj") check_obj_text(path, false);
+    const std::string ext = lower_extension(path);
+    if (ext == ".obj") check_obj_text(path, false);
+    if (ext == ".off") check_off_text(path);
+    if (ext == ".stl") check_stl_size(path);
+    if (ext == ".ply") check_ply_header(path);
 
     Assimp::Importer importer;
     // Points and lines come out as meshes of their own; identical vertices are joined so
@@ -406,7 +465,7 @@ ImportedScene import_scene_file(const std::string& path) {
     if (collect.skipped_primitives)
         out.left_out.push_back(
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
-    out.cameras = cameras_of(*scene, gltf ? &extras : nullptr);
+    out.cameras = cameras_of(*scene, gltf ? &extras : nullptr, out.left_out);
     for (unsigned k = 0; k < scene->mNumLights; ++k) {
         const aiLight& l = *scene->mLights[k];
         out.left_out.push_back(fmt::format("light '{}' ({}): only emissive surfaces emit",

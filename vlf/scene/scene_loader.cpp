@@ -262,6 +262,10 @@ void validate_import(const Reader& r, ObjectDesc& o, const std::string& base_dir
     validate_file(r, o, base_dir);
     o.triangulate = true;
     if (const auto m = r.optional("materials")) {
+        if (r.optional("material"))
+            m->fail(
+                "cannot be combined with \"material\" (which overrides all of the file's "
+                "materials)");
         m->expect_object();
         o.overrides_place = m->path();
         for (const auto& [name, target] : m->members())
@@ -471,7 +475,7 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
             g.mesh.uvs.clear();
         } else {
             g.material.name = part.name;
-            if (g.texture.width > 0) {
+            if (g.texture.width > 0 && g.material.is_diffuse()) {
                 g.material.diffuse_texture = static_cast<int>(d.textures.size());
                 d.textures.push_back(std::move(g.texture));
             } else {
@@ -797,8 +801,9 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
              std::any_of(d.objects.begin(), d.objects.end(),
                          [](const ObjectDesc& o) { return o.type == "import"; })
                  ? "no emitter: no face uses a material with emission > 0 (an imported file "
-                   "emits through its materials' Ke or emissive colour; else add a lamp: "
-                   "{\"type\": \"import\", \"file\": ...} in a JSON scene, docs/scenes.md)"
+                   "emits through its materials' Ke or emissive colour; else place it with "
+                   "{\"type\": \"import\", \"file\": ...} in a JSON scene that has a lamp, "
+                   "docs/scenes.md)"
                  : "no emitter: no face uses a material with emission > 0");
 
     // Texel size: the caller's, else the file's, else the bounding-sphere radius / 32.

@@ -37,7 +37,9 @@ Rgb Texture::at(const Vec2& uv) const {
     const auto& lut = srgb_table();
     // Continuous texel coordinates with texel (i, j) centred at (i + 0.5, j + 0.5); row 0
     // is the top of the image, v = 1.
-    const double x = uv.x * width - 0.5, y = (1.0 - uv.y) * height - 0.5;
+    // Wrapped into one period first, so huge coordinates stay in range of a long.
+    const double u = uv.x - std::floor(uv.x), v = uv.y - std::floor(uv.y);
+    const double x = u * width - 0.5, y = (1.0 - v) * height - 0.5;
     if (!std::isfinite(x) || !std::isfinite(y)) return Rgb(0.0);
     const double fx = std::floor(x), fy = std::floor(y);
     const double tx = x - fx, ty = y - fy;
@@ -92,7 +94,8 @@ void Texture::finish() {
 namespace {
 
 Rgb bilinear(const Texture::Level& l, const Vec2& uv) {
-    const double x = uv.x * l.width - 0.5, y = (1.0 - uv.y) * l.height - 0.5;
+    const double u = uv.x - std::floor(uv.x), v = uv.y - std::floor(uv.y);
+    const double x = u * l.width - 0.5, y = (1.0 - v) * l.height - 0.5;
     if (!std::isfinite(x) || !std::isfinite(y)) return Rgb(0.0);
     const double fx = std::floor(x), fy = std::floor(y);
     const double tx = x - fx, ty = y - fy;

@@ -12,6 +12,10 @@
 
 namespace vlf {
 
+// The largest texture a scene or a bake holds, and the longest name kept.
+inline constexpr int64_t kMaxTextureTexels = int64_t(1) << 28;
+inline constexpr size_t kMaxTextureName = 4096;
+
 struct Texture {
     std::string name;  // as the model file names it
     int width = 0, height = 0;

@@ -151,12 +151,11 @@ void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch&
         const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
         const Received r = gather_received(pc, g, frags, w.in);
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
-        const bool textured = !pc.scene.chart_of(pc.scene.faces[f]).texel_albedo.empty();
-        if (!textured) res.absorbed += r.power * (Rgb(1.0) - mat.diffuse - mat.specular);
-        if (mat.is_diffuse()) {
-            const Rgb reflected = receive_diffuse(pc, g, f, frags, mat.diffuse, w.in, res);
-            if (textured) res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
-        }
+        // What is neither reflected diffusely (by the texels' albedo, which a texture
+        // varies) nor specularly is absorbed.
+        const Rgb reflected =
+            mat.is_diffuse() ? receive_diffuse(pc, g, f, frags, mat.diffuse, w.in, res) : Rgb(0.0);
+        res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
         if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat.specular, w.in, res);
     }
 }
