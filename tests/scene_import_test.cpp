@@ -214,6 +214,19 @@ TEST(SceneImport, GltfMaterialsNodesAndCamera) {
     EXPECT_NEAR(c.fov_y_deg, 0.8 * 180.0 / kPi, 1e-3);  // glTF's yfov
 }
 
+// glTF transmission (KHR_materials_transmission) is kept in the material for dielectrics and
+// noted as not propagated.
+TEST(SceneImport, GltfTransmissionIsKeptAndNoted) {
+    TempDir dir("transmission");
+    nlohmann::json g = nlohmann::json::parse(quad_gltf());
+    g["extensionsUsed"].push_back("KHR_materials_transmission");
+    g["materials"][0]["extensions"] = {
+        {"KHR_materials_transmission", {{"transmissionFactor", 0.9}}}};
+    const Scene s = load_scene(dir.write("glass.gltf", g.dump()));
+    EXPECT_NEAR(material_named(s, "glass/paint").transmission, 0.9, 1e-6);
+    EXPECT_TRUE(has_note(s, "transmission 0.9"));
+}
+
 // ---- JSON "import" objects: transform, overrides ----------------------------------------
 
 TEST(SceneImport, JsonImportObjectWithTransformAndOverrides) {

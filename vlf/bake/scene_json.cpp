@@ -24,7 +24,9 @@ json scene_to_json(const Scene& scene) {
                              {"diffuse", vec_json(m.diffuse)},
                              {"specular", vec_json(m.specular)},
                              {"emission", vec_json(m.emission)},
-                             {"diffuse_texture", m.diffuse_texture}});
+                             {"diffuse_texture", m.diffuse_texture},
+                             {"transmission", m.transmission},
+                             {"ior", m.ior}});
     json objects = json::array();
     for (const SceneObject& o : scene.objects)
         objects.push_back({{"name", o.name},
@@ -57,13 +59,19 @@ json scene_to_json(const Scene& scene) {
 namespace {
 
 Material read_material(const JsonReader& r) {
-    r.only_keys({"name", "diffuse", "specular", "emission", "diffuse_texture"});
+    r.only_keys(
+        {"name", "diffuse", "specular", "emission", "diffuse_texture", "transmission", "ior"});
     Material m;
     m.name = r.required("name").string();
     m.diffuse = r.required("diffuse").vec3();
     m.specular = r.required("specular").vec3();
     m.emission = r.required("emission").vec3();
     m.diffuse_texture = r.required("diffuse_texture").integer(-1);
+    m.transmission = r.required("transmission").number();
+    m.ior = r.required("ior").number();
+    if (!(m.transmission >= 0.0 && m.transmission <= 1.0))
+        r.required("transmission").fail("must be in [0, 1]");
+    if (!(m.ior >= 1.0)) r.required("ior").fail("must be >= 1");
     return m;
 }
 

@@ -26,6 +26,11 @@ struct Material {
     // the material's mean albedo and the albedo at a point is diffuse x texture(uv) / its
     // mean (Scene::albedo_at): the texture's pattern at the material's level.
     int diffuse_texture = -1;
+    // A dielectric's transmission (glTF KHR_materials_transmission) and index of
+    // refraction, kept from imported files for dielectrics (issue 14); propagation does not
+    // use them yet (0 = opaque).
+    double transmission = 0.0;
+    double ior = 1.5;
     bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
     bool is_specular() const { return specular.x > 0 || specular.y > 0 || specular.z > 0; }
     bool is_diffuse() const { return diffuse.x > 0 || diffuse.y > 0 || diffuse.z > 0; }

@@ -220,7 +220,12 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
         if (m.Get(AI_MATKEY_TRANSMISSION_FACTOR, x) == AI_SUCCESS && x > 0.0f) {
             float ior = 1.5f;
             m.Get(AI_MATKEY_REFRACTI, ior);
-            note(fmt::format("transmission {:.3g}, ior {:.3g} (no dielectrics yet)", x, ior));
+            out.transmission = std::clamp(double(x), 0.0, 1.0);
+            if (std::isfinite(ior) && ior >= 1.0f) out.ior = ior;
+            note(
+                fmt::format("transmission {:.3g}, ior {:.3g} (kept in the material; not "
+                            "propagated: no dielectrics yet)",
+                            x, ior));
         }
     } else {
         out.diffuse = base;
