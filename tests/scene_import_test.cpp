@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "test_util.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene_loader.hpp"
@@ -19,19 +20,7 @@ namespace {
 
 const std::string kModels = std::string(VLF_SOURCE_DIR) + "/scenes/models";
 
-struct TempDir {
-    std::filesystem::path path;
-    explicit TempDir(const std::string& name) {
-        path = std::filesystem::path(::testing::TempDir()) /
-               ("vlf_import_" + name + "_" + std::to_string(::getpid()));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    std::string write(const std::string& file, const std::string& text) const {
-        std::ofstream(path / file, std::ios::binary) << text;
-        return (path / file).string();
-    }
-};
+using test::TempDir;
 
 const Material& material_named(const Scene& s, const std::string& name) {
     for (const Material& m : s.materials)
@@ -303,7 +292,7 @@ TEST(SceneImport, MissingDirectoryAndUnknownFormat) {
     TempDir dir("missing");
     expect_load_error((dir.path / "none.glb").string(), "does not exist");
     std::filesystem::create_directories(dir.path / "folder.obj");
-    expect_load_error((dir.path / "folder.obj").string(), "is a directory, not a scene file");
+    expect_load_error((dir.path / "folder.obj").string(), "is a directory, not a file");
     const std::string json =
         dir.write("s.json", R"({"materials": {"l": {"emission": [1, 1, 1]}}, "objects": [
             {"type": "import", "file": "x.notaformat"}]})");

@@ -12,6 +12,7 @@
 #include <map>
 #include <tuple>
 
+#include "test_util.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene.hpp"
@@ -368,19 +369,7 @@ TEST(SceneMesh, ImportsObjOffPlyAndStl) {
     }
 }
 
-struct TempDir {
-    std::filesystem::path path;
-    explicit TempDir(const std::string& name) {
-        path = std::filesystem::path(::testing::TempDir()) /
-               ("vlf_scene_" + name + "_" + std::to_string(::getpid()));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    std::string write(const std::string& file, const std::string& text) const {
-        std::ofstream(path / file) << text;
-        return (path / file).string();
-    }
-};
+using test::TempDir;
 
 TEST(SceneMesh, NonPlanarFaceIsAnErrorUnlessTriangulated) {
     TempDir dir("mesh");

@@ -1,6 +1,10 @@
 // test_util.hpp — small helpers shared by the tests: scenes built in code, file paths.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -12,6 +16,24 @@
 #include "vlf/transport/parameters.hpp"
 
 namespace vlf::test {
+
+// A scratch directory under the test temp dir, removed with its files at the end.
+struct TempDir {
+    std::filesystem::path path;
+    explicit TempDir(const std::string& name) {
+        path = std::filesystem::path(::testing::TempDir()) /
+               ("vlf_" + name + "_" + std::to_string(::getpid()));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    // Writes `text` (bytes as they are) to `file` in the directory; returns its path.
+    std::string write(const std::string& file, const std::string& text) const {
+        std::ofstream(path / file, std::ios::binary) << text;
+        return (path / file).string();
+    }
+};
 
 inline std::string source_path(const std::string& rel) {
     return std::string(VLF_SOURCE_DIR) + "/" + rel;

@@ -18,19 +18,7 @@
 namespace vlf {
 namespace {
 
-struct TempDir {
-    std::filesystem::path path;
-    explicit TempDir(const std::string& name) {
-        path = std::filesystem::path(::testing::TempDir()) /
-               ("vlf_texture_" + name + "_" + std::to_string(::getpid()));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-    std::string write(const std::string& file, const std::string& text) const {
-        std::ofstream(path / file, std::ios::binary) << text;
-        return (path / file).string();
-    }
-};
+using test::TempDir;
 
 // A binary PPM (stb reads it like any image): row 0 at the top.
 std::string ppm(int w, int h, const std::vector<uint8_t>& rgb) {

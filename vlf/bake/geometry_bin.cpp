@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "vlf/bake/binary_reader.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/scene/charts.hpp"
 
@@ -61,50 +62,6 @@ uint64_t file_bytes(uint64_t F, uint64_t C, uint64_t V, uint64_t T) {
     return 40 + F * 72 + 4 + V * 24 + C * 129 + 4 + T * 8;
 }
 
-class Reader {
-  public:
-    Reader(std::vector<char> bytes, std::string file)
-        : m_bytes(std::move(bytes)), m_file(std::move(file)) {}
-    [[noreturn]] void fail(const std::string& what) const {
-        throw Error(fmt::format("{}: {}", m_file, what));
-    }
-    template <class T>
-    T get(const char* what) {
-        if (m_at + sizeof(T) > m_bytes.size())
-            fail(fmt::format("truncated in {} (at byte {} of {})", what, m_at, m_bytes.size()));
-        T v;
-        std::memcpy(&v, m_bytes.data() + m_at, sizeof(T));
-        m_at += sizeof(T);
-        return v;
-    }
-    double finite(const char* what, size_t index) {
-        const double v = get<double>(what);
-        if (!std::isfinite(v)) fail(fmt::format("{} of {} is not finite", what, index));
-        return v;
-    }
-    Vec3 vec(const char* what, size_t index) {
-        Vec3 v;
-        for (int c = 0; c < 3; ++c) v[c] = finite(what, index);
-        return v;
-    }
-    int32_t index(const char* what, size_t of, int32_t lo, int32_t hi) {
-        const int32_t v = get<int32_t>(what);
-        if (v < lo || v > hi)
-            fail(fmt::format("{} of {} is {} (must be in [{}, {}])", what, of, v, lo, hi));
-        return v;
-    }
-    size_t size() const { return m_bytes.size(); }
-    void expect_end() const {
-        if (m_at != m_bytes.size())
-            fail(fmt::format("{} bytes after the last array", m_bytes.size() - m_at));
-    }
-
-  private:
-    std::vector<char> m_bytes;
-    std::string m_file;
-    size_t m_at = 0;
-};
-
 void write_faces(Writer& w, const Scene& s) {
     for (const Face& f : s.faces) w.put(int32_t(f.object));
     for (const Face& f : s.faces) w.put(int32_t(f.material));
@@ -142,7 +99,7 @@ void write_charts(Writer& w, const Scene& s) {
 }
 
 // Offsets [F+1] (or [C+1]) from 0, non-decreasing by at least `min_step`, ending at `total`.
-std::vector<uint32_t> read_offsets(Reader& r, const char* what, size_t n, uint64_t total,
+std::vector<uint32_t> read_offsets(BinaryReader& r, const char* what, size_t n, uint64_t total,
                                    uint32_t min_step) {
     std::vector<uint32_t> o(n + 1);
     for (size_t k = 0; k <= n; ++k) o[k] = r.get<uint32_t>(what);
@@ -155,7 +112,7 @@ std::vector<uint32_t> read_offsets(Reader& r, const char* what, size_t n, uint64
     return o;
 }
 
-void read_faces(Reader& r, Scene& s, size_t F, size_t C, uint64_t V) {
+void read_faces(BinaryReader& r, Scene& s, size_t F, size_t C, uint64_t V) {
     const int32_t nf = int32_t(F), nc = int32_t(C);
     s.faces.assign(F, Face());
     for (size_t k = 0; k < F; ++k) s.faces[k].id = int(k);
@@ -184,7 +141,7 @@ void read_faces(Reader& r, Scene& s, size_t F, size_t C, uint64_t V) {
             r.fail(fmt::format("face twin of {}: face {} does not name it back", f.id, f.twin));
 }
 
-void read_charts(Reader& r, Scene& s, size_t C, uint64_t T) {
+void read_charts(BinaryReader& r, Scene& s, size_t C, uint64_t T) {
     const size_t F = s.faces.size();
     s.charts.assign(C, Chart());
     for (size_t k = 0; k < C; ++k) s.charts[k].id = int(k);
@@ -249,10 +206,7 @@ void write_geometry(const std::string& file, const Scene& scene) {
 }
 
 void read_geometry(const std::string& file, Scene& scene) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(fmt::format("{}: cannot be read", file));
-    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    Reader r(std::move(bytes), file);
+    BinaryReader r(file);
     for (char c : kMagic)
         if (r.get<char>("the header") != c) r.fail("not a VLF geometry file (bad magic)");
     const uint64_t F = r.get<uint64_t>("the header"), C = r.get<uint64_t>("the header");

@@ -17,6 +17,7 @@
 #include <iterator>
 #include <vector>
 
+#include "vlf/bake/binary_reader.hpp"
 #include "vlf/core/error.hpp"
 
 namespace vlf {
@@ -30,38 +31,6 @@ void put(std::vector<char>& out, const T& v) {
     const char* p = reinterpret_cast<const char*>(&v);
     out.insert(out.end(), p, p + sizeof(T));
 }
-
-class Reader {
-  public:
-    Reader(std::vector<char> bytes, std::string file)
-        : m_bytes(std::move(bytes)), m_file(std::move(file)) {}
-    [[noreturn]] void fail(const std::string& what) const {
-        throw Error(fmt::format("{}: {}", m_file, what));
-    }
-    template <class T>
-    T get(const char* what) {
-        if (m_bytes.size() - m_at < sizeof(T)) fail(fmt::format("truncated in {}", what));
-        T v;
-        std::memcpy(&v, m_bytes.data() + m_at, sizeof(T));
-        m_at += sizeof(T);
-        return v;
-    }
-    void bytes(void* to, size_t n, const char* what) {
-        if (m_bytes.size() - m_at < n) fail(fmt::format("truncated in {}", what));
-        std::memcpy(to, m_bytes.data() + m_at, n);
-        m_at += n;
-    }
-    size_t left() const { return m_bytes.size() - m_at; }
-    void expect_end() const {
-        if (m_at != m_bytes.size())
-            fail(fmt::format("{} bytes after the last array", m_bytes.size() - m_at));
-    }
-
-  private:
-    std::vector<char> m_bytes;
-    std::string m_file;
-    size_t m_at = 0;
-};
 
 }  // namespace
 
@@ -91,11 +60,7 @@ void write_textures(const std::string& file, const Scene& scene) {
 }
 
 void read_textures(const std::string& file, Scene& scene) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(fmt::format("{}: cannot be read", file));
-    Reader r(
-        std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()),
-        file);
+    BinaryReader r(file);
     for (char c : kMagic)
         if (r.get<char>("the header") != c) r.fail("not a VLF textures file (bad magic)");
     const uint64_t T = r.get<uint64_t>("the header");

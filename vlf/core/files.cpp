@@ -21,6 +21,15 @@ std::string lower_extension(const std::string& path) {
     return e;
 }
 
+void check_input_file(const std::string& path, const std::string& what) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(fmt::format("{} '{}' is a directory, not a file", what, path));
+    if (!std::filesystem::exists(path, ec))
+        throw Error(fmt::format("{} '{}' does not exist", what, path));
+    if (!std::ifstream(path).good()) throw Error(fmt::format("{} '{}' cannot be read", what, path));
+}
+
 void check_output_path(const std::string& path) {
     fs::path dir = fs::path(path).parent_path();
     if (dir.empty()) dir = ".";

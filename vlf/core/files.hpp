@@ -11,6 +11,10 @@ namespace vlf {
 // The extension of `path`, lower-cased, with its dot (".exr"); "" when there is none.
 std::string lower_extension(const std::string& path);
 
+// Fails when `path` is not a readable file: Error "<what> '<path>' is a directory, not a
+// file" / "does not exist" / "cannot be read".
+void check_input_file(const std::string& path, const std::string& what);
+
 // Fails early (before any work) when `path` cannot be written: its directory must exist
 // and be writable. Throws ParameterError naming the path.
 void check_output_path(const std::string& path);

@@ -198,13 +198,7 @@ bool is_supported_mesh_file(const std::string& path) {
 }
 
 ImportedMesh import_mesh(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw Error(fmt::format("mesh file '{}' is a directory, not a file", path));
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw Error(fmt::format("mesh file '{}' does not exist", path));
-    if (!std::ifstream(path).good())
-        throw Error(fmt::format("mesh file '{}' cannot be read", path));
+    check_input_file(path, "mesh file");
     if (!is_supported_mesh_file(path))
         throw Error(fmt::format(
             "mesh file '{}' has an unsupported extension (use .obj, .ply, .off or .stl)", path));

@@ -412,13 +412,7 @@ bool is_importable_scene_file(const std::string& path) {
 }
 
 ImportedScene import_scene_file(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw Error(fmt::format("'{}' is a directory, not a scene file", path));
-    if (!std::filesystem::exists(path, ec))
-        throw Error(fmt::format("scene file '{}' does not exist", path));
-    if (!std::ifstream(path).good())
-        throw Error(fmt::format("scene file '{}' cannot be read", path));
+    check_input_file(path, "scene file");
     if (!is_importable_scene_file(path))
         throw Error(fmt::format("'{}': no importer reads '{}' files", path, lower_extension(path)));
     const std::string ext = lower_extension(path);

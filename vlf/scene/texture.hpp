@@ -23,10 +23,9 @@ struct Texture {
 
     // Linear RGB at (u, v), bilinear between texel centres, wrapping.
     Rgb at(const Vec2& uv) const;
-    // The mean linear colour of all texels, and the same kept by finish() (call it once
-    // the texels are in place; it also builds the mip levels).
-    Rgb mean() const;
+    // The mean linear colour of all texels; set by finish().
     Rgb average{1.0};
+    // Call once the texels are in place: sets `average` and builds the mip levels.
     void finish();
 
     // The mean colour over a footprint about `pixels` texture pixels wide around (u, v):
@@ -40,8 +39,5 @@ struct Texture {
     };
     std::vector<Level> levels;
 };
-
-// sRGB-encoded 8-bit value to linear [0, 1].
-double srgb_to_linear(uint8_t value);
 
 }  // namespace vlf
