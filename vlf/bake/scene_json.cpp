@@ -41,6 +41,17 @@ json scene_to_json(const Scene& scene) {
                            {"look_at", vec_json(c.look_at)},
                            {"up", vec_json(c.up)},
                            {"fov_y_deg", c.fov_y_deg}});
+    json lights = json::array();
+    for (const Light& l : scene.lights)
+        lights.push_back({{"name", l.name},
+                          {"type", light_type_name(l.type)},
+                          {"position", vec_json(l.position)},
+                          {"direction", vec_json(l.direction)},
+                          {"intensity", vec_json(l.intensity)},
+                          {"cos_inner", l.cos_inner},
+                          {"cos_outer", l.cos_outer},
+                          {"irradiance", vec_json(l.irradiance)},
+                          {"angular_diameter_deg", l.angular_diameter_deg}});
     // nlohmann writes doubles with the shortest text that round-trips exactly.
     return {
         {"units", scene.units},
@@ -51,7 +62,8 @@ json scene_to_json(const Scene& scene) {
         {"texel_size_user", scene.texel_size_user},
         {"materials", materials},
         {"objects", objects},
-        {"cameras", cameras}};
+        {"cameras", cameras},
+        {"lights", lights}};
 }
 
 // ---------------------------------------------------------------------------------------
@@ -96,12 +108,29 @@ Camera read_camera(const JsonReader& r) {
     return c;
 }
 
+Light read_light(const JsonReader& r) {
+    r.only_keys({"name", "type", "position", "direction", "intensity", "cos_inner", "cos_outer",
+                 "irradiance", "angular_diameter_deg"});
+    Light l;
+    l.name = r.required("name").string();
+    const size_t t = r.required("type").one_of({"point", "spot", "directional"}, "light type");
+    l.type = t == 0 ? LightType::Point : t == 1 ? LightType::Spot : LightType::Directional;
+    l.position = r.required("position").vec3();
+    l.direction = r.required("direction").vec3();
+    l.intensity = r.required("intensity").vec3();
+    l.cos_inner = r.required("cos_inner").number(-1, 1);
+    l.cos_outer = r.required("cos_outer").number(-1, 1);
+    l.irradiance = r.required("irradiance").vec3();
+    l.angular_diameter_deg = r.required("angular_diameter_deg").number(0, 30);
+    return l;
+}
+
 }  // namespace
 
 Scene scene_from_json(const json& j, const std::string& file) {
     const JsonReader r(j, file);
     r.only_keys({"units", "normalisation", "user_bounds_min", "user_bounds_max", "texel_size_user",
-                 "materials", "objects", "cameras"});
+                 "materials", "objects", "cameras", "lights"});
     Scene s;
     s.source = file;
     s.units = r.required("units").string();
@@ -118,6 +147,9 @@ Scene scene_from_json(const json& j, const std::string& file) {
     for (const JsonReader& o : objects) s.objects.push_back(read_object(o));
     for (const JsonReader& c : r.required("cameras").elements())
         s.cameras.push_back(read_camera(c));
+    // (Bakes of format 5 written before lights existed have none.)
+    if (const auto lights = r.optional("lights"))
+        for (const JsonReader& l : lights->elements()) s.lights.push_back(read_light(l));
     return s;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vlf/core/math.hpp"
+#include "vlf/scene/light.hpp"
 #include "vlf/scene/texture.hpp"
 
 namespace vlf {
@@ -137,6 +138,7 @@ struct Scene {
     std::vector<Face> faces;
     std::vector<Chart> charts;
     std::vector<Camera> cameras;
+    std::vector<Light> lights;  // point, spot and directional lights (light.hpp), user units
     Normalisation normalisation;
     Vec3 user_bounds_min{0.0}, user_bounds_max{0.0};
     double texel_size_user = 0.0;  // the texel size used, user units

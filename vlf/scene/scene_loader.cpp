@@ -14,7 +14,7 @@
 // Keys (anything else is an error; "?" = optional, with its default). docs/scene.schema.json
 // says the same as a JSON Schema; keep the two in step (tests/scene_schema_test.py).
 //   top level  materials {name: material}, objects [object, ...] (non-empty),
-//              cameras? [camera, ...], settings? {texel_size? (> 0, user units),
+//              cameras? [camera, ...], lights? [light, ...], settings? {texel_size? (> 0, user units),
 //              units? (string)}, $schema? (string: the schema, for editors; ignored)
 //   material   diffuse? [r,g,b] = 0, specular? [r,g,b] = 0 (each in [0,1],
 //              diffuse + specular <= 1 per channel), emission? [r,g,b] = 0 (>= 0, W m^-2 sr^-1)
@@ -41,6 +41,12 @@
 //              triangulated (degenerate triangles dropped with a count in the load notes);
 //              two_sided when the object or the file's material says so. The file's cameras
 //              join the scene's as "<name>/<camera>".
+//   light      type (point|spot|directional), name? = "light#<index>" (light.hpp):
+//   - point    position, power [W,W,W] or intensity [W/sr,...] (each >= 0, <= 1e20)
+//   - spot     position, direction (the axis), outer_deg (0 < outer <= 180), inner_deg? = 0
+//              (<= outer; smoothstep falloff between), power or intensity (on the axis)
+//   - directional  direction (the way the light travels), irradiance [W/unit^2,...] on a
+//              plane facing it, angular_diameter_deg? = 0 (0..30; the sun's is 0.53)
 //   camera     name? = "camera#<index>", eye, look_at (!= eye), up? = [0,1,0] (not parallel
 //              to the view direction), fov_y_deg (0 < fov < 180); user units
 // "triangulate": true turns every face of the object into triangles (ear clipping for planar
@@ -118,6 +124,7 @@ struct SceneDescription {
     std::vector<Material> materials;
     std::vector<ObjectDesc> objects;
     std::vector<Camera> cameras;
+    std::vector<Light> lights;
     std::optional<double> texel_size;
     std::string units;
     std::vector<std::string> notes;  // Scene::load_notes
@@ -149,20 +156,23 @@ std::vector<std::string> object_keys(const std::string& type) {
     return keys;
 }
 
+// [r, g, b] with every channel in [0, upper]; `bound` says why the upper bound.
+Rgb checked_rgb(const Reader& e, double upper, const char* bound) {
+    const Rgb c = e.vec3();
+    for (int i = 0; i < 3; ++i) {
+        if (c[i] < 0) e.element(i).fail(fmt::format("must be >= 0 (got {})", c[i]));
+        if (c[i] > upper) e.element(i).fail(fmt::format("{} (got {})", bound, c[i]));
+    }
+    return c;
+}
+
 Material validate_material(const Reader& r, const std::string& name) {
     r.only_keys({"diffuse", "specular", "emission"});
     Material m;
     m.name = name;
     auto rgb = [&](const char* key, double upper, const char* bound) {
-        Rgb c(0.0);
         const auto e = r.optional(key);
-        if (!e) return c;
-        c = e->vec3();
-        for (int i = 0; i < 3; ++i) {
-            if (c[i] < 0) e->element(i).fail(fmt::format("must be >= 0 (got {})", c[i]));
-            if (c[i] > upper) e->element(i).fail(fmt::format("{} (got {})", bound, c[i]));
-        }
-        return c;
+        return e ? checked_rgb(*e, upper, bound) : Rgb(0.0);
     };
     m.diffuse = rgb("diffuse", 1.0, "reflectance must be <= 1");
     m.specular = rgb("specular", 1.0, "reflectance must be <= 1");
@@ -333,6 +343,85 @@ Camera validate_camera(const Reader& r, int index) {
     return c;
 }
 
+// A unit direction from a non-zero [x, y, z].
+Vec3 unit_direction(const Reader& r) {
+    const Vec3 d = r.vec3();
+    const double len = glm::length(d);
+    if (!(len > 0) || !std::isfinite(len)) r.fail("must be a non-zero direction");
+    return d / len;
+}
+
+// A light (light.hpp): point {position, power | intensity}, spot {position, direction,
+// inner_deg?, outer_deg, power | intensity}, directional {direction, irradiance,
+// angular_diameter_deg?}.
+Light validate_light(const Reader& r, int index) {
+    r.expect_object();
+    Light l;
+    const Reader type = r.required("type");
+    const size_t t = type.one_of({"point", "spot", "directional"}, "light type");
+    l.type = t == 0 ? LightType::Point : t == 1 ? LightType::Spot : LightType::Directional;
+    l.name = fmt::format("light#{}", index);
+    if (const auto n = r.optional("name")) l.name = n->string();
+    const char* kBound = "must be <= 1e20 (the power ledger would overflow)";
+    if (l.type == LightType::Directional) {
+        r.only_keys({"type", "name", "direction", "irradiance", "angular_diameter_deg"},
+                    "a directional light");
+        l.direction = unit_direction(r.required("direction"));
+        l.irradiance = checked_rgb(r.required("irradiance"), kMaxEmission, kBound);
+        if (const auto a = r.optional("angular_diameter_deg")) l.angular_diameter_deg = a->number(0, 30);
+        return l;
+    }
+    std::vector<std::string> keys = {"type", "name", "position", "power", "intensity"};
+    if (l.type == LightType::Spot)
+        for (const char* k : {"direction", "inner_deg", "outer_deg"}) keys.push_back(k);
+    r.only_keys(keys, fmt::format("a {} light", light_type_name(l.type)));
+    const Reader pos = r.required("position");
+    l.position = pos.vec3();
+    for (int i = 0; i < 3; ++i)
+        if (std::abs(l.position[i]) > kMaxCoordinate)
+            pos.element(i).fail(fmt::format("coordinate {} is beyond +-1e15", l.position[i]));
+    if (l.type == LightType::Spot) {
+        l.direction = unit_direction(r.required("direction"));
+        const Reader outer = r.required("outer_deg");
+        const double outer_deg = outer.number();
+        if (!(outer_deg > 0 && outer_deg <= 180))
+            outer.fail(fmt::format("must be in (0, 180] degrees (got {})", outer_deg));
+        double inner_deg = 0;
+        if (const auto inner = r.optional("inner_deg")) {
+            inner_deg = inner->number();
+            if (!(inner_deg >= 0 && inner_deg <= outer_deg))
+                inner->fail(fmt::format("must be in [0, outer_deg = {}] degrees (got {})",
+                                        outer_deg, inner_deg));
+        }
+        l.cos_inner = std::cos(inner_deg * kPi / 180.0);
+        l.cos_outer = std::cos(outer_deg * kPi / 180.0);
+    }
+    const auto power = r.optional("power"), intensity = r.optional("intensity");
+    if (power && intensity) intensity->fail("give either power or intensity, not both");
+    if (!power && !intensity) r.fail("a point or spot light needs power (W) or intensity (W/sr)");
+    if (intensity) {
+        l.intensity = checked_rgb(*intensity, kMaxEmission, kBound);
+    } else {
+        const double solid_angle = l.type == LightType::Point
+                                       ? 4.0 * kPi
+                                       : Light::spot_solid_angle(l.cos_inner, l.cos_outer);
+        l.intensity = checked_rgb(*power, kMaxEmission, kBound) / solid_angle;
+    }
+    return l;
+}
+
+std::vector<Light> validate_lights(const Reader& r) {
+    std::vector<Light> lights;
+    std::set<std::string> names;
+    const std::vector<Reader> list = r.elements();
+    for (size_t i = 0; i < list.size(); ++i) {
+        lights.push_back(validate_light(list[i], static_cast<int>(i)));
+        if (!names.insert(lights.back().name).second)
+            list[i].fail(fmt::format("duplicate light name '{}'", lights.back().name));
+    }
+    return lights;
+}
+
 std::vector<Material> validate_materials(const Reader& r) {
     r.expect_object();
     std::vector<Material> materials;
@@ -370,7 +459,7 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
     const Reader r(root, file);
     SceneDescription d;
     r.expect_object();
-    r.only_keys({"$schema", "materials", "objects", "cameras", "settings"});
+    r.only_keys({"$schema", "materials", "objects", "cameras", "lights", "settings"});
     if (const auto schema = r.optional("$schema")) schema->string();  // for editors; ignored
     d.materials = validate_materials(r.required("materials"));
     std::vector<std::string> material_names;
@@ -384,14 +473,18 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
             validate_object(objects[i], static_cast<int>(i), material_names, base_dir));
 
     if (const auto cams = r.optional("cameras")) d.cameras = validate_cameras(*cams);
+    if (const auto lights = r.optional("lights")) d.lights = validate_lights(*lights);
     if (const auto s = r.optional("settings")) validate_settings(*s, d);
 
-    // (An imported file's materials are known only once it is read.)
+    // (An imported file's materials and lights are known only once it is read.)
     const bool any_emitter =
-        std::any_of(d.objects.begin(), d.objects.end(), [&](const ObjectDesc& o) {
-            return !o.material_given || d.materials[o.material].is_emitter();
-        });
-    if (!any_emitter) objs.fail("no emitter: no object uses a material with emission > 0");
+        std::any_of(d.objects.begin(), d.objects.end(),
+                    [&](const ObjectDesc& o) {
+                        return !o.material_given || d.materials[o.material].is_emitter();
+                    }) ||
+        std::any_of(d.lights.begin(), d.lights.end(), [](const Light& l) { return l.emits(); });
+    if (!any_emitter)
+        objs.fail("no emitter: no object uses a material with emission > 0 and no light emits");
     return d;
 }
 
@@ -782,6 +875,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     scene.units = d.units;
     scene.materials = d.materials;
     scene.cameras = d.cameras;
+    scene.lights = d.lights;
     scene.load_notes = d.notes;
     scene.textures = d.textures;
 
@@ -796,7 +890,9 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
 
     const double half_diagonal = normalise(scene, faces, file);
     add_objects(scene, d, faces);
-    if (scene.emitter_count() == 0)
+    const bool lights_emit = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                         [](const Light& l) { return l.emits(); });
+    if (scene.emitter_count() == 0 && !lights_emit)
         fail(file, "objects",
              std::any_of(d.objects.begin(), d.objects.end(),
                          [](const ObjectDesc& o) { return o.type == "import"; })

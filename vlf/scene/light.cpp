@@ -1,0 +1,44 @@
+// light.cpp — point, spot and directional lights (light.hpp).
+#include "vlf/scene/light.hpp"
+
+#include <algorithm>
+
+namespace vlf {
+
+const char* light_type_name(LightType type) {
+    switch (type) {
+        case LightType::Point: return "point";
+        case LightType::Spot: return "spot";
+        case LightType::Directional: return "directional";
+    }
+    return "?";
+}
+
+Rgb Light::intensity_towards(const Vec3& w) const {
+    if (type == LightType::Point) return intensity;
+    if (type != LightType::Spot) return Rgb(0.0);
+    const double c = glm::dot(w, direction);
+    if (c >= cos_inner) return intensity;
+    if (c <= cos_outer) return Rgb(0.0);
+    const double t = (c - cos_outer) / (cos_inner - cos_outer);
+    return intensity * (t * t * (3.0 - 2.0 * t));  // smoothstep
+}
+
+double Light::spot_solid_angle(double ci, double co) {
+    // 2 pi [ (1 - cos_inner) + (cos_inner - cos_outer) / 2 ]: the smoothstep integrates to
+    // one half over its interval of cos theta.
+    return 2.0 * kPi * ((1.0 - ci) + 0.5 * (ci - co));
+}
+
+Rgb Light::power() const {
+    if (type == LightType::Point) return intensity * (4.0 * kPi);
+    if (type == LightType::Spot) return intensity * spot_solid_angle(cos_inner, cos_outer);
+    return Rgb(0.0);
+}
+
+bool Light::emits() const {
+    const Rgb& v = type == LightType::Directional ? irradiance : intensity;
+    return v.x > 0 || v.y > 0 || v.z > 0;
+}
+
+}  // namespace vlf
