@@ -26,6 +26,35 @@ double mean(const Rgb& c) {
     return (c.x + c.y + c.z) / 3.0;
 }
 
+// Height of p above face f's plane (normalised units; > 0 on its front side).
+double height(const Face& f, const Vec3& p) {
+    return glm::dot(f.normal, p) - f.plane_offset;
+}
+
+// p reflected in face f's plane (an image source's position).
+Vec3 mirror_point(const Face& f, const Vec3& p) {
+    return p - 2.0 * height(f, p) * f.normal;
+}
+
+// Whether point p of face f's plane lies inside its convex polygon (counter-clockwise
+// seen from the front), its rim included.
+bool inside_face(const Face& f, const Vec3& p) {
+    const size_t k = f.vertices.size();
+    for (size_t i = 0; i < k; ++i) {
+        const Vec3& a = f.vertices[i];
+        const Vec3& b = f.vertices[(i + 1) % k];
+        if (glm::dot(glm::cross(b - a, p - a), f.normal) < 0.0) return false;
+    }
+    return true;
+}
+
+// Whether some vertex of face a lies in front of face b's plane (by more than kEps): a
+// necessary condition for light to go from one mirror to the other.
+bool partly_in_front(const Face& a, const Face& b) {
+    return std::any_of(a.vertices.begin(), a.vertices.end(),
+                       [&](const Vec3& v) { return height(b, v) > kEps; });
+}
+
 }  // namespace
 
 Pcg32::Pcg32(uint64_t seed, uint64_t stream) {
@@ -60,6 +89,135 @@ PathTracer::PathTracer(const Scene& scene, const RayCaster& caster)
             m_lights.push_back(t);
         }
     }
+    m_scale2 = scene.normalisation.scale * scene.normalisation.scale;
+    for (const Face& f : scene.faces)
+        if (scene.material_of(f).is_specular()) m_mirrors.push_back(f.id);
+    // Second-order image sources: the ordered pairs (a, b) where light can go from mirror
+    // b to mirror a, b's front facing a's and a's facing b's. None for a convex mirror
+    // (a tessellated sphere seen from outside); a concave one may give too many (see
+    // kMaxMirrorPairs in the header): then none at all, rather than an arbitrary subset.
+    if (kMaxMirrorOrder >= 2 && m_mirrors.size() <= size_t(kMaxMirrorFacesForPairs)) {
+        for (int a : m_mirrors)
+            for (int b : m_mirrors) {
+                const Face &fa = scene.faces[a], &fb = scene.faces[b];
+                if (a == b || !partly_in_front(fa, fb) || !partly_in_front(fb, fa)) continue;
+                m_mirror_pairs.push_back(a);
+                m_mirror_pairs.push_back(b);
+            }
+        if (m_mirror_pairs.size() > 2 * size_t(kMaxMirrorPairs)) m_mirror_pairs.clear();
+    }
+}
+
+bool PathTracer::segment_clear(const Vec3& o, const Vec3& y) const {
+    const Vec3 to = y - o;
+    const double dist = glm::length(to);
+    if (!(dist > kEps)) return true;
+    return !m_caster.occluded(o, to / dist, 0.0, dist - kEps);
+}
+
+PathTracer::DeltaSource PathTracer::delta_source(const Light& light, Pcg32& rng) const {
+    DeltaSource s;
+    s.light = &light;
+    if (light.type != LightType::Directional) {
+        s.position = m_scene.normalisation.to_normalised(light.position);
+        return s;
+    }
+    s.parallel = true;
+    s.travel = light.direction;
+    s.irradiance = light.irradiance;
+    const double half = 0.5 * light.angular_diameter_deg * kPi / 180.0;
+    if (half > 0.0) {
+        // A disc of uniform radiance L_s over the cone of half-angle `half`: E on a plane
+        // facing its centre is L_s pi sin^2(half), the cone's solid angle Omega =
+        // 2 pi (1 - cos half). One direction, uniform in solid angle (pdf 1/Omega),
+        // carries L_s Omega = E 2 / (1 + cos half) on a plane facing it.
+        const double cos_half = std::cos(half);
+        const double c = 1.0 - rng.uniform() * (1.0 - cos_half);
+        const double sn = std::sqrt(std::max(0.0, 1.0 - c * c)), phi = 2.0 * kPi * rng.uniform();
+        Vec3 e1, e2;
+        orthonormal_basis(light.direction, e1, e2);
+        s.travel = glm::normalize(c * light.direction +
+                                  sn * (std::cos(phi) * e1 + std::sin(phi) * e2));
+        s.irradiance *= 2.0 / (1.0 + cos_half);
+    }
+    return s;
+}
+
+// Image sources (Allen & Berkley 1979; VLF §6.3 treats mirrors as planes the same way):
+// light that reaches x after ideal reflections in the planar mirrors f_1, ..., f_k (f_1
+// nearest x) comes from the source's image v = R_1 R_2 ... R_k p, R_i the reflection in
+// f_i's plane (for a directional light, the direction of travel reflected likewise). The
+// straight line from x towards v is the unfolded path: it must meet f_1's plane at m_1 on
+// the front of f_1 (x in front, the line heading into the plane, the crossing before v)
+// and inside its polygon; reflected there it must meet f_2 the same way, and so on; every
+// leg x -> m_1 -> ... -> m_k -> p must be unoccluded. The path's length is |x - v| — so a
+// point or spot light gives E = rho_s,1 ... rho_s,k I(w) cos_x / |x - v|^2, w the
+// direction from p to m_k; a directional light gives rho_s,1 ... rho_s,k E cos_x.
+Rgb PathTracer::delta_path(const DeltaSource& s, const Vec3& x, const Vec3& n, const int* chain,
+                           int k) const {
+    // Unfold: the image of the source, last mirror first.
+    Vec3 w;  // from x towards the image, unit
+    double left = std::numeric_limits<double>::infinity();  // distance to the image
+    if (s.parallel) {
+        Vec3 t = s.travel;
+        for (int i = k - 1; i >= 0; --i) {
+            const Vec3& m = m_scene.faces[chain[i]].normal;
+            t -= 2.0 * glm::dot(t, m) * m;
+        }
+        w = -t;
+    } else {
+        Vec3 v = s.position;
+        for (int i = k - 1; i >= 0; --i) v = mirror_point(m_scene.faces[chain[i]], v);
+        w = v - x;
+        left = glm::length(w);
+        if (!(left > 0.0)) return Rgb(0.0);
+        w /= left;
+    }
+    const double length = left;
+    const double cos_x = glm::dot(n, w);
+    if (cos_x <= 0.0) return Rgb(0.0);  // arrives at the back of x's face
+    // Follow it mirror by mirror.
+    Rgb weight(1.0);
+    Vec3 c = x, o = x + kEps * n;  // the path's current point, and it lifted off its face
+    for (int i = 0; i < k; ++i) {
+        const Face& f = m_scene.faces[chain[i]];
+        const double h = height(f, c), toward = -glm::dot(w, f.normal);
+        if (h <= kEps || toward <= 0.0) return Rgb(0.0);  // behind f or leaving its plane
+        const double t = h / toward;
+        if (t >= left) return Rgb(0.0);  // the source (image) lies before f's plane
+        const Vec3 m = c + t * w;
+        if (!inside_face(f, m) || !segment_clear(o, m)) return Rgb(0.0);
+        weight *= m_scene.material_of(f).specular;
+        left -= t;
+        c = m;
+        o = m + kEps * f.normal;
+        w += 2.0 * toward * f.normal;  // reflected
+    }
+    if (s.parallel) {  // a shadow ray to infinity: escaping = lit
+        if (m_caster.occluded(o, w, 0.0, std::numeric_limits<double>::infinity()))
+            return Rgb(0.0);
+        return weight * s.irradiance * cos_x;
+    }
+    if (!segment_clear(o, s.position)) return Rgb(0.0);
+    const Vec3 from_light = c - s.position;  // the direction the light leaves in
+    const double d = glm::length(from_light);
+    if (!(d > 0.0)) return Rgb(0.0);
+    // I / r_user^2 = I scale^2 / r_n^2 (Normalisation: r_n = r_user scale).
+    return weight * s.light->intensity_towards(from_light / d) *
+           (cos_x * m_scale2 / (length * length));
+}
+
+Rgb PathTracer::delta_irradiance(const Vec3& x, const Vec3& n, Pcg32& rng) const {
+    Rgb E(0.0);
+    for (const Light& light : m_scene.lights) {
+        if (!light.emits()) continue;
+        const DeltaSource s = delta_source(light, rng);
+        E += delta_path(s, x, n, nullptr, 0);
+        for (const int& f : m_mirrors) E += delta_path(s, x, n, &f, 1);
+        for (size_t p = 0; p < m_mirror_pairs.size(); p += 2)
+            E += delta_path(s, x, n, &m_mirror_pairs[p], 2);
+    }
+    return E;
 }
 
 Rgb PathTracer::direct(const Vec3& x, const Vec3& n, double bsdf_pdf_scale, Pcg32& rng) const {
@@ -111,7 +269,7 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
         const Material& m = m_scene.material_of(f);
         if (m.is_emitter()) {
             double w = 1.0;
-            if (bsdf_pdf > 0.0) {  // MIS against next-event estimation from the previous vertex
+            if (bsdf_pdf > 0.0 && m_light_area > 0.0) {  // MIS against next-event estimation from the previous vertex
                 const double d2 = hit.t * hit.t * glm::dot(dir, dir);
                 const double p_light = d2 / (cos_hit * m_light_area);
                 w = bsdf_pdf * bsdf_pdf / (bsdf_pdf * bsdf_pdf + p_light * p_light);
@@ -123,7 +281,9 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
         const double pd = std::max(0.0, mean(rho_d)), ps = std::max(0.0, mean(m.specular));
         if (pd + ps <= 0.0) break;
         const double p_diffuse = pd / (pd + ps);  // probability of the Lambertian lobe
-        if (pd > 0.0) L += beta * rho_d * (1.0 / kPi) * direct(x, n, p_diffuse, rng);
+        if (pd > 0.0)
+            L += beta * rho_d * (1.0 / kPi) *
+                 (direct(x, n, p_diffuse, rng) + delta_irradiance(x, n, rng));
         if (rng.uniform() < p_diffuse) {  // Lambertian lobe, cosine-weighted
             const double r = std::sqrt(rng.uniform()), phi = 2.0 * kPi * rng.uniform();
             Vec3 e1, e2;

@@ -15,13 +15,17 @@ const char* light_type_name(LightType type) {
 }
 
 Rgb Light::intensity_towards(const Vec3& w) const {
-    if (type == LightType::Point) return intensity;
-    if (type != LightType::Spot) return Rgb(0.0);
+    return intensity * falloff(w);
+}
+
+double Light::falloff(const Vec3& w) const {
+    if (type == LightType::Point) return 1.0;
+    if (type != LightType::Spot) return 0.0;
     const double c = glm::dot(w, direction);
-    if (c >= cos_inner) return intensity;
-    if (c <= cos_outer) return Rgb(0.0);
+    if (c >= cos_inner) return 1.0;
+    if (c <= cos_outer) return 0.0;
     const double t = (c - cos_outer) / (cos_inner - cos_outer);
-    return intensity * (t * t * (3.0 - 2.0 * t));  // smoothstep
+    return t * t * (3.0 - 2.0 * t);  // smoothstep
 }
 
 double Light::spot_solid_angle(double ci, double co) {

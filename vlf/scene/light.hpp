@@ -30,8 +30,10 @@ struct Light {
     Rgb irradiance{0.0};                // directional: W per square unit, on a plane facing it
     double angular_diameter_deg = 0.0;  // directional: the source's disc (the sun: 0.53)
 
-    // Point, spot: the intensity towards unit direction w (from the light).
+    // Point, spot: the intensity towards unit direction w (from the light), and its ratio
+    // to `intensity` (the spot's falloff; 1 for a point light).
     Rgb intensity_towards(const Vec3& w) const;
+    double falloff(const Vec3& w) const;
     // Point, spot: the emitted power, W (the integral of the intensity over the sphere).
     Rgb power() const;
     // The solid angle a spot's falloff integrates to: power = intensity x this.

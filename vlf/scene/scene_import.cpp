@@ -11,6 +11,8 @@
 //             transmission and ior are listed as left out (dielectrics: issue 14).
 //   others    the diffuse and emissive colours; a reflective colour with reflectivity > 0
 //             -> mirror.
+// Lights (lights_of): point, spot and directional lights with their strengths as the file
+// gives them; area and ambient lights are left out.
 // A diffuse colour texture (map_Kd, the base-colour texture) is kept (ImportedGroup::texture);
 // the material's diffuse is the colour x the texture's mean linear colour (sRGB decoded).
 // Where diffuse + specular exceeds 1 in a channel both are scaled down to sum to 1.
@@ -402,6 +404,122 @@ const char* light_kind(aiLightSourceType t) {
     }
 }
 
+// The file's point, spot and directional lights (light.hpp, ImportedScene::lights): placed by
+// the node of their name (as assimp names them), strengths as the file gives them. Area,
+// ambient and unplaced lights are listed in `left_out`, lights without strength too; what is
+// taken differently (attenuation, a glTF range) goes to `notes`. Names are made unique.
+//
+// assimp 5.2's glTF reader (KHR_lights_punctual) puts colour x intensity into mColorDiffuse,
+// 0 0 -1 into mDirection and the spot's cone half-angles (glTF's convention) into
+// mAngleInnerCone / mAngleOuterCone; assimp's other readers give full cone angles there
+// (Collada's falloff_angle, 3ds Max's hotspot and falloff), as its light.h says.
+std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::string>& left_out,
+                             std::vector<std::string>& notes) {
+    std::vector<Light> out;
+    std::set<std::string> names;
+    for (unsigned k = 0; k < scene.mNumLights; ++k) {
+        const aiLight& l = *scene.mLights[k];
+        const std::string name = l.mName.length ? l.mName.C_Str() : fmt::format("light#{}", k);
+        const std::string what = fmt::format("light '{}' ({})", name, light_kind(l.mType));
+        Light light;
+        if (l.mType == aiLightSource_POINT)
+            light.type = LightType::Point;
+        else if (l.mType == aiLightSource_SPOT)
+            light.type = LightType::Spot;
+        else if (l.mType == aiLightSource_DIRECTIONAL)
+            light.type = LightType::Directional;
+        else {
+            left_out.push_back(
+                what + ": VLF lights are point, spot and directional (an emissive surface "
+                       "makes an area light)");
+            continue;
+        }
+        const aiNode* node = l.mName.length ? scene.mRootNode->FindNode(l.mName) : nullptr;
+        if (!node) {
+            left_out.push_back(what + ": no node of the scene places it");
+            continue;
+        }
+        const aiMatrix4x4 xf = global_transform(node);
+        const aiMatrix3x3 rot(xf);
+        const Vec3 direction = to_vec(rot * l.mDirection);
+        Rgb strength = Rgb(l.mColorDiffuse.r, l.mColorDiffuse.g, l.mColorDiffuse.b);
+        for (int c = 0; c < 3; ++c) strength[c] = std::max(strength[c], 0.0);  // no negative light
+
+        // assimp's fall-off is 1 / (constant + linear d + quadratic d^2); VLF's lights fall
+        // off as 1 / d^2, so only quadratic alone is kept (as intensity / quadratic).
+        if (light.type != LightType::Directional) {
+            const double c0 = l.mAttenuationConstant, c1 = l.mAttenuationLinear,
+                         c2 = l.mAttenuationQuadratic;
+            if (c0 == 0 && c1 == 0 && c2 > 0) {
+                strength /= c2;
+            } else {
+                notes.push_back(fmt::format(
+                    "{}: attenuation 1 / ({:.3g} + {:.3g} d + {:.3g} d^2) replaced by the "
+                    "inverse square law 1 / d^2",
+                    what, c0, c1, c2));
+            }
+            float range = 0.0f;
+            if (gltf && node->mMetaData && node->mMetaData->Get("PBR_LightRange", range))
+                notes.push_back(fmt::format(
+                    "{}: range {:.3g} not kept (the light reaches every distance)", what, range));
+        }
+        const Vec3 position = to_vec(xf * l.mPosition);
+        const double finite = glm::length(strength) + glm::length(direction);
+        if (!std::isfinite(finite) ||
+            !(std::max({std::abs(position.x), std::abs(position.y), std::abs(position.z)}) <=
+              1e15)) {
+            left_out.push_back(
+                what + ": a strength or direction that is not finite, or a position beyond "
+                       "+-1e15");
+            continue;
+        }
+        if (!(std::max({strength.x, strength.y, strength.z}) > 0)) {
+            left_out.push_back(what + ": zero intensity");
+            continue;
+        }
+        if (!(std::max({strength.x, strength.y, strength.z}) <= 1e20))
+            throw Error(fmt::format("{}: strength {} is out of range (at most 1e20)", what,
+                                    rgb_text(strength)));
+        if (light.type != LightType::Point) {
+            if (!(glm::length(direction) > 0)) {
+                left_out.push_back(what + ": its node's transform leaves it no direction");
+                continue;
+            }
+            light.direction = glm::normalize(direction);
+        }
+        if (light.type == LightType::Directional) {
+            light.irradiance = strength;
+        } else {
+            light.position = position;
+            light.intensity = strength;
+        }
+        if (light.type == LightType::Spot) {
+            const double to_half = gltf ? 1.0 : 0.5;
+            const double outer = std::min(double(l.mAngleOuterCone) * to_half, kPi);
+            const double inner = std::clamp(double(l.mAngleInnerCone) * to_half, 0.0, outer);
+            if (!(outer > 0)) {
+                left_out.push_back(
+                    fmt::format("{}: outer cone angle {:.3g} (no cone)", what, l.mAngleOuterCone));
+                continue;
+            }
+            light.cos_inner = std::cos(inner);
+            light.cos_outer = std::cos(outer);
+        }
+        light.name = name;
+        for (int n = 2; !names.insert(light.name).second; ++n)
+            light.name = fmt::format("{}#{}", name, n);
+        out.push_back(light);
+    }
+    if (!out.empty())
+        notes.push_back(
+            gltf ? "light strengths taken as they are: KHR_lights_punctual's candela as W/sr "
+                   "(point, spot) and lux as W per square unit (directional), as emission is "
+                   "taken as radiance"
+                 : "light strengths (colour x intensity) taken as they are: W/sr for point and "
+                   "spot lights, W per square unit for directional ones");
+    return out;
+}
+
 }  // namespace
 
 bool is_importable_scene_file(const std::string& path) {
@@ -465,11 +583,7 @@ ImportedScene import_scene_file(const std::string& path) {
         out.left_out.push_back(
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
     out.cameras = cameras_of(*scene, gltf ? &extras : nullptr, out.left_out);
-    for (unsigned k = 0; k < scene->mNumLights; ++k) {
-        const aiLight& l = *scene->mLights[k];
-        out.left_out.push_back(fmt::format("light '{}' ({}): only emissive surfaces emit",
-                                           l.mName.C_Str(), light_kind(l.mType)));
-    }
+    out.lights = lights_of(*scene, gltf, out.left_out, out.notes);
     return out;
 }
 

@@ -2,14 +2,17 @@
 // FBX, COLLADA, ...) through assimp (issue 12). Geometry comes out in file units with the
 // file's node transforms applied (instances repeated), grouped by material; materials are
 // mapped onto VLF's (diffuse, ideal mirror, Lambertian emitter) and whatever cannot be
-// represented is listed per material so the caller reports it once. The scene loader turns
-// the groups into objects (scene_loader.cpp, object type "import").
+// represented is listed per material so the caller reports it once. The file's point, spot
+// and directional lights become VLF lights (light.hpp) with their strengths taken as they are
+// (glTF: 1 cd -> 1 W/sr, 1 lux -> 1 W per square unit). The scene loader turns the groups into
+// objects and adds the cameras and lights (scene_loader.cpp, object type "import").
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "vlf/core/math.hpp"
+#include "vlf/scene/light.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/scene.hpp"
 
@@ -32,9 +35,17 @@ struct ImportedGroup {
 struct ImportedScene {
     std::vector<ImportedGroup> groups;  // in the file's material order; empty groups left out
     std::vector<Camera> cameras;        // file units, node transforms applied
+    // Point, spot and directional lights: positions in file units, unit directions in the
+    // file's frame (node transforms applied); names unique. Strengths as the file gives them
+    // (colour x intensity): point and spot intensity in W/sr, directional irradiance in W per
+    // square unit (glTF's candela and lux taken as these, as emission is taken as radiance).
+    std::vector<Light> lights;
     // Things of the file left out, one phrase each ("2 meshes of points or lines",
-    // "light 'Sun' (directional): VLF has no directional lights yet").
+    // "light 'Sky' (ambient): ...").
     std::vector<std::string> left_out;
+    // Things taken differently from the file, one phrase each ("light 'Lamp' (point):
+    // attenuation ... replaced by the inverse square law").
+    std::vector<std::string> notes;
 };
 
 // True when assimp has a reader for the file's extension.

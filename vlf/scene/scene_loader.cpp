@@ -533,7 +533,8 @@ struct Transform {
 // ================================ stage 3: load =========================================
 
 // An import object becomes one object per material of its file (scene_import.hpp): the
-// file's materials join the scene's (or are overridden), its cameras join the scene's.
+// file's materials join the scene's (or are overridden), its cameras and lights join the
+// scene's as "<name>/<camera>", "<name>/<light>", moved by the object's transform.
 void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imported,
                    std::vector<ObjectDesc>& objects, std::vector<ImportedMesh>& meshes) {
     std::set<std::string> used;
@@ -588,6 +589,7 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
     }
     for (const std::string& l : imported.left_out)
         d.notes.push_back(fmt::format("{}: left out: {}", o.file, l));
+    for (const std::string& n : imported.notes) d.notes.push_back(fmt::format("{}: {}", o.file, n));
     const Transform xf(o, Vec3(0.0));
     for (Camera c : imported.cameras) {
         const Vec3 up_tip = xf(c.eye + c.up);
@@ -596,6 +598,20 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
         c.up = up_tip - c.eye;
         c.name = o.name + "/" + c.name;
         d.cameras.push_back(c);
+    }
+    std::set<std::string> light_names;
+    for (const Light& l : d.lights) light_names.insert(l.name);
+    for (Light l : imported.lights) {
+        // A direction is the difference of two moved points (scale and rotation, no
+        // translation); intensities are per steradian and stay as they are.
+        const Vec3 moved = xf(l.position + l.direction) - xf(l.position);
+        if (l.type != LightType::Directional) l.position = xf(l.position);
+        if (l.type != LightType::Point) l.direction = glm::normalize(moved);
+        const std::string name = o.name + "/" + l.name;
+        l.name = name;
+        for (int k = 2; !light_names.insert(l.name).second; ++k)
+            l.name = fmt::format("{}#{}", name, k);
+        d.lights.push_back(l);
     }
 }
 

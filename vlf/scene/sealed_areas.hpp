@@ -22,4 +22,8 @@ namespace vlf {
 // n log n plus the pairs that are really that close.
 void subtract_sealed_areas(Scene& scene, double gap);
 
+// Below this open fraction (Chart::texel_open) a texel counts as sealed: numerically
+// nothing of it is open. Light landing there goes to the sealing face's black back.
+inline constexpr double kSealedTexel = 1e-3;
+
 }  // namespace vlf

@@ -6,15 +6,12 @@
 // the unshot maps of the enclosing mirror directions (§4.2-4.3, specular.hpp).
 #include <algorithm>
 
+#include "vlf/scene/sealed_areas.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
 namespace vlf::transport_detail {
 
 namespace {
-
-// Below this open fraction a texel counts as sealed (receive_diffuse): numerically
-// nothing of it is open.
-constexpr double kSealedTexel = 1e-3;
 
 // What a face receives in one direction: the power on its rays, and their bounding box on
 // the exchange grid (by whole tile columns).

@@ -42,8 +42,9 @@ Vec3 point_on(const Scene& scene, const Chart& c, double u, double v, double w) 
     return scene.faces[c.faces[0]].vertices[0];
 }
 
-// The texel of chart c at p with area, the nearest such in its 3 x 3 neighbourhood, else -1.
-long texel_at(const Chart& c, const Vec3& p) {
+}  // namespace
+
+long nearest_texel(const Chart& c, const Vec3& p) {
     const Vec2 uv = c.texels.to_texel(p);
     const int i = std::clamp(int(std::floor(uv.x)), 0, c.texels.width - 1);
     const int j = std::clamp(int(std::floor(uv.y)), 0, c.texels.height - 1);
@@ -58,8 +59,6 @@ long texel_at(const Chart& c, const Vec3& p) {
         }
     return best;
 }
-
-}  // namespace
 
 std::vector<int> small_emitter_charts(const Scene& scene, int resolution, double pixels) {
     const double pixel = 2.0 / resolution;
@@ -102,7 +101,7 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
             }
             const Material& m = scene.material_of(f);
             const Chart& hc = scene.chart_of(f);
-            const long texel = m.is_diffuse() ? texel_at(hc, hit.point) : -1;
+            const long texel = m.is_diffuse() ? nearest_texel(hc, hit.point) : -1;
             // A textured chart's texel albedo (texel_albedo.hpp), else the material's.
             Rgb diffuse =
                 carried * (texel >= 0 && !hc.texel_albedo.empty() ? hc.texel_albedo[size_t(texel)]

@@ -24,6 +24,10 @@ namespace vlf {
 // (2 / N per side, normalised units).
 std::vector<int> small_emitter_charts(const Scene& scene, int resolution, double pixels = 1.0);
 
+// The texel of chart c at p (normalised units) that has area, the nearest such in its
+// 3 x 3 neighbourhood, else -1.
+long nearest_texel(const Chart& c, const Vec3& p);
+
 // What a share of a first shot deposits: P^N per texel, and where the rest went.
 struct ShotResult {
     std::vector<Rgb>& next;  // per texel (TextureMaps order)

@@ -10,6 +10,7 @@
 #include "vlf/core/progress.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/transport/gaussian_filter.hpp"
+#include "vlf/transport/light_beams.hpp"
 #include "vlf/transport/small_emitters.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
@@ -117,6 +118,46 @@ void Transport::shoot_small_emitters() {
             reduce_chunks(std::min(kWave, kChunks - wave), none);
         }
     }
+    m_timings.passes += shot.seconds();
+}
+
+void Transport::shoot_lights() {
+    if (m_scene.lights.empty()) return;
+    const Stopwatch shot;
+    const RayCaster caster(m_scene);
+    // The reach of the faces' rims in texels (transport_setup.cpp): a leaf beam's
+    // footprint stays within half of it.
+    const double reach =
+        2.0 * 2.0 / (m_params.field.resolution * m_params.supersample);
+    const LightBeams beams(m_scene, caster, m_tex, m_polygons, reach);
+    const int64_t K = beams.roots();
+    // The lights' deposits are exact at rims and shadow edges: they join P^N after the
+    // rim pooling and the filter, which are there for the field's beams (run_cycle).
+    std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
+    std::swap(held, m_tex.next);
+    std::vector<ChunkResult>& chunks = m_work->chunks;
+    chunks.resize(kWave);
+    std::vector<SpecularSource> none;
+    std::vector<Rgb> emitted(kWave);
+    // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
+    for (int wave = 0; wave < kChunks; wave += kWave) {
+        parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
+            ChunkResult& res = chunks[c - wave];
+            res.reset(m_tex.texels());
+            LightShotResult out{res.next};
+            beams.shoot(K * c / kChunks, K * (c + 1) / kChunks, out);
+            res.absorbed = out.absorbed;
+            res.absorbed_back = out.absorbed_back;
+            res.escaped = out.escaped;
+            res.lost = out.lost;
+            emitted[c - wave] = out.emitted;
+        });
+        const int count = std::min(kWave, kChunks - wave);
+        reduce_chunks(count, none);
+        for (int k = 0; k < count; ++k) m_running.emitted += emitted[k];
+    }
+    m_light_next = std::move(m_tex.next);
+    m_tex.next = std::move(held);
     m_timings.passes += shot.seconds();
 }
 
@@ -239,6 +280,7 @@ void Transport::run_cycle(bool last) {
     if (e.cycle == 1) {
         load_emission(m_running);
         shoot_small_emitters();
+        shoot_lights();
     }
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
@@ -255,6 +297,8 @@ void Transport::run_cycle(bool last) {
     sw.lap();
     pool_rim_texels(m_pools, m_scene, m_tex, m_tex.next);
     if (m_params.filter_sigma > 0.0) gaussian_filter_next(m_scene, m_tex, m_params.filter_sigma);
+    for (size_t t = 0; t < m_light_next.size(); ++t) m_tex.next[t] += m_light_next[t];
+    m_light_next.clear();
     m_timings.filter += sw.lap();
     Rgb unshot(0.0), deferred(0.0);
     swap_maps(unshot, deferred);

@@ -131,6 +131,9 @@ class Transport {
     // Cycle 1: the emitters smaller than a ray shoot their power by ray casting
     // (small_emitters.hpp) instead of through the PSFs.
     void shoot_small_emitters();
+    // Cycle 1: point, spot and directional lights send their light into P^N by beam
+    // tracing (light_beams.hpp).
+    void shoot_lights();
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
@@ -153,6 +156,7 @@ class Transport {
     RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays)
     std::vector<uint8_t> m_deferred;       // per chart, this cycle
     std::vector<int> m_small_emitters;     // charts that shoot by ray casting
+    std::vector<Rgb> m_light_next;         // cycle 1: the lights' share of P^N (shoot_lights)
     std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels
     RimPools m_pools;                      // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;

@@ -1,0 +1,373 @@
+// light_beams.cpp — the first shot of delta lights by adaptive beam tracing (light_beams.hpp).
+#include "vlf/transport/light_beams.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vlf/core/rotation.hpp"
+#include "vlf/scene/sealed_areas.hpp"
+#include "vlf/transport/small_emitters.hpp"
+
+namespace vlf {
+
+namespace {
+
+// Root beams per side of a cube face (point, spot) and of a directional light's grid.
+constexpr int kPointRoots = 16;
+constexpr int kParallelRoots = 32;
+// A directional light's root grid lies this far behind the scene's centre (outside the
+// unit ball) and spans [-1, 1]^2 across it.
+constexpr double kParallelBase = 2.0;
+// A leaf beam's footprint is at most this many texels (and rim reaches) wide.
+constexpr double kFootprintTexels = 0.25;
+// Sub-cells per side of the quadrature of a spot's falloff over a root beam.
+constexpr int kSpotQuadrature = 4;
+
+// sum of atan(u v / sqrt(1 + u^2 + v^2)) over the corners (the solid angle of a rectangle
+// on the plane z = 1 seen from the origin; Girard for a spherical quadrilateral).
+double corner_angle(double u, double v) {
+    return std::atan2(u * v, std::sqrt(1.0 + u * u + v * v));
+}
+
+// The direction through (u, v) of cube face `side` (axis side / 2, sign + for even).
+Vec3 cube_direction(int side, double u, double v) {
+    const int a = side / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    Vec3 d(0.0);
+    d[a] = side % 2 == 0 ? 1.0 : -1.0;
+    d[b] = u;
+    d[c] = v;
+    return d;
+}
+
+int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const Vec3& d,
+             double tmin, RayHit& hit) {
+    if (!caster.intersect(o, d, tmin, 1e30, hit)) return -1;       // leaves the scene
+    const Face& f = scene.faces[hit.face];
+    if (glm::dot(f.normal, d) >= 0.0) return -2;                    // a back face
+    return f.chart;
+}
+
+}  // namespace
+
+double cube_solid_angle(double u0, double u1, double v0, double v1) {
+    return corner_angle(u1, v1) - corner_angle(u0, v1) - corner_angle(u1, v0) +
+           corner_angle(u0, v0);
+}
+
+LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
+                       const std::vector<FaceInTexels>& polygons, double reach)
+    : m_scene(scene), m_caster(caster), m_tex(tex), m_polygons(polygons), m_reach(reach) {
+    const double s2 = scene.normalisation.scale * scene.normalisation.scale;
+    int64_t total = 0;
+    for (const Light& l : scene.lights) {
+        if (!l.emits()) continue;
+        if (l.type == LightType::Directional) {
+            // The source's disc as subfields, evenly by area (a Vogel spiral): their
+            // shadows add up to the penumbra.
+            const int K = l.angular_diameter_deg > 0
+                              ? std::clamp(int(std::ceil(16.0 * l.angular_diameter_deg)), 8, 64)
+                              : 1;
+            Vec3 a, b;
+            orthonormal_basis(l.direction, a, b);
+            const double half = 0.5 * l.angular_diameter_deg * kPi / 180.0;
+            for (int k = 0; k < K; ++k) {
+                Source s;
+                s.light = &l;
+                s.parallel = true;
+                const double r = K == 1 ? 0.0 : half * std::sqrt((k + 0.5) / K);
+                const double phi = k * 2.399963229728653;  // the golden angle
+                s.direction = glm::normalize(
+                    l.direction + std::tan(r) * (std::cos(phi) * a + std::sin(phi) * b));
+                orthonormal_basis(s.direction, s.e1, s.e2);
+                s.base = -kParallelBase * s.direction;
+                s.unit_power = l.irradiance / double(K);  // E x normalised area
+                s.resolution = kParallelRoots;
+                total += int64_t(s.resolution) * s.resolution;
+                m_sources.push_back(s);
+                m_first.push_back(total);
+            }
+            continue;
+        }
+        Source s;
+        s.light = &l;
+        s.position = scene.normalisation.to_normalised(l.position);
+        s.unit_power = l.intensity * s2;  // W/sr x (normalised / user area)
+        // A spot's cone spans several root beams at least.
+        const double outer_deg = std::acos(std::clamp(l.cos_outer, -1.0, 1.0)) * 180.0 / kPi;
+        s.resolution = l.type == LightType::Spot
+                           ? std::max(kPointRoots, int(std::ceil(360.0 / std::max(outer_deg, 0.5))))
+                           : kPointRoots;
+        total += 6 * int64_t(s.resolution) * s.resolution;
+        m_sources.push_back(s);
+        m_first.push_back(total);
+    }
+}
+
+void LightBeams::ray(const Source& s, const Segment& g, int side, double u, double v, Vec3& o,
+                     Vec3& d) const {
+    if (s.parallel) {
+        o = s.base + u * s.e1 + v * s.e2;
+        d = s.direction;
+    } else {
+        o = s.position;
+        d = cube_direction(side, u, v);
+    }
+    o = g.M * o + g.t;
+    d = g.M * d;
+    if (g.has_start) {  // the reflected ray starts on the last mirror's plane
+        const double denom = glm::dot(g.n, d);
+        if (denom != 0.0) o += ((g.c - glm::dot(g.n, o)) / denom) * d;
+    }
+    d = glm::normalize(d);
+}
+
+// A beam's share of the light: its solid angle (point), with the spot's falloff over a
+// 2 x 2 quadrature, or its area (parallel). Only ratios between siblings are used.
+double LightBeams::weight(const Source& s, const Rect& r) const {
+    if (s.parallel) return (r.u1 - r.u0) * (r.v1 - r.v0);
+    if (s.light->type == LightType::Point) return cube_solid_angle(r.u0, r.u1, r.v0, r.v1);
+    double w = 0.0;
+    const double hu = 0.5 * (r.u1 - r.u0), hv = 0.5 * (r.v1 - r.v0);
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            const double a = r.u0 + i * hu, b = r.v0 + j * hv;
+            const Vec3 dir = glm::normalize(cube_direction(r.side, a + 0.5 * hu, b + 0.5 * hv));
+            w += s.light->falloff(dir) * cube_solid_angle(a, a + hu, b, b + hv);
+        }
+    return w;
+}
+
+void LightBeams::deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const Vec3& centre,
+                         const Rgb& power, LightShotResult& out, Rgb& reflected) const {
+    const Chart& chart = m_scene.chart_of(f);
+    const Material& m = m_scene.material_of(f);
+    const size_t tb = m_tex.begin(chart.id);
+    const std::vector<Rgb>& albedo = chart.texel_albedo;
+    const std::vector<double>& open = chart.texel_open;
+    auto land = [&](size_t texel, const Rgb& q) {
+        reflected += q;
+        if (!open.empty() && open[texel] < kSealedTexel)
+            out.absorbed_back += q;  // sealed behind another face (receive_step.cpp)
+        else
+            out.next[tb + texel] += q;
+    };
+    if (foot_ok) {
+        Vec2 quad[4];
+        for (int k = 0; k < 4; ++k) quad[k] = chart.texels.to_texel(foot[k]);
+        thread_local std::vector<TexelOverlap> ov;
+        ov.clear();
+        clip_footprint_to_grid(quad, m_polygons[f.id].rim, chart.texels.width,
+                               chart.texels.height, ov);
+        double sum = 0.0;
+        for (const TexelOverlap& o : ov) sum += o.area;
+        if (sum > 0.0) {
+            for (const TexelOverlap& o : ov)
+                land(o.texel, power * (albedo.empty() ? m.diffuse : albedo[o.texel]) *
+                                  (double(o.area) / sum));
+            return;
+        }
+    }
+    // A footprint that does not lie on the plane ahead (a ray grazing it): the centre's
+    // texel takes the beam.
+    const long t = nearest_texel(chart, centre);
+    if (t < 0) {
+        out.lost.empty_footprint += power * m.diffuse;
+        reflected += power * m.diffuse;
+        return;
+    }
+    land(size_t(t), power * (albedo.empty() ? m.diffuse : albedo[size_t(t)]));
+}
+
+void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const Rgb& power,
+                       int depth, LightShotResult& out) const {
+    if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
+    // The centre ray, then the corners (counter-clockwise in (u, v)).
+    const double us[5] = {0.5 * (r.u0 + r.u1), r.u0, r.u1, r.u1, r.u0};
+    const double vs[5] = {0.5 * (r.v0 + r.v1), r.v0, r.v0, r.v1, r.v1};
+    const double tmin = g.has_start ? 1e-7 : 0.0;
+    Vec3 o[5], d[5];
+    RayHit hit[5];
+    int cls[5];
+    for (int k = 0; k < 5; ++k) {
+        ray(s, g, r.side, us[k], vs[k], o[k], d[k]);
+        cls[k] = classify(m_scene, m_caster, o[k], d[k], tmin, hit[k]);
+    }
+    bool split = false;
+    for (int k = 1; k < 5; ++k) split |= cls[k] != cls[0];
+    Vec3 foot[4];
+    const bool foot_ok = cls[0] >= 0 && footprint(hit[0].face, o, d, foot);
+    if (cls[0] >= 0) {
+        const double width =
+            foot_ok ? std::max(glm::length(foot[2] - foot[0]), glm::length(foot[3] - foot[1]))
+                    : 0.0;
+        const double texel = m_scene.charts[size_t(cls[0])].texels.size;
+        split |= !foot_ok || width > kFootprintTexels * std::min(texel, m_reach);
+    }
+    if (split && depth < kMaxDepth) {
+        const double um = 0.5 * (r.u0 + r.u1), vm = 0.5 * (r.v0 + r.v1);
+        const Rect kids[4] = {{r.side, r.u0, um, r.v0, vm},
+                              {r.side, um, r.u1, r.v0, vm},
+                              {r.side, r.u0, um, vm, r.v1},
+                              {r.side, um, r.u1, vm, r.v1}};
+        double w[4], sum = 0.0;
+        for (int k = 0; k < 4; ++k) sum += (w[k] = weight(s, kids[k]));
+        for (int k = 0; k < 4; ++k)
+            trace(s, kids[k], g, power * (sum > 0.0 ? w[k] / sum : 0.25), depth + 1, out);
+        return;
+    }
+    ++out.leaves;
+    int other = 0;  // a corner that meets something else than the centre, if any
+    for (int k = 1; k < 5 && other == 0; ++k)
+        if (cls[k] != cls[0]) other = k;
+    if (other == 0) {
+        land(s, r, g, depth, cls[0], hit[0], foot, foot_ok, power, out);
+        return;
+    }
+    // A leaf across an edge (a face's rim, a shadow's edge) even at the finest level: the
+    // nearer of the two faces it meets decides by the part of the beam its rim holds (the
+    // farther one, or the void, gets the rest), so edges aligned with the beam grid do not
+    // all fall on one side.
+    Vec3 other_foot[4];
+    const bool other_ok = cls[other] >= 0 && footprint(hit[other].face, o, d, other_foot);
+    const bool centre_near = cls[0] >= 0 && (cls[other] < 0 || hit[0].t <= hit[other].t);
+    double share = 0.0;  // the centre's part of the beam
+    if (centre_near)
+        share = foot_ok ? rim_share(hit[0].face, foot) : 1.0;
+    else if (cls[other] >= 0)
+        share = 1.0 - (other_ok ? rim_share(hit[other].face, other_foot) : 1.0);
+    else  // neither meets a front face: by the rays' votes
+        share = double(1 + std::count(cls + 1, cls + 5, cls[0])) / 5.0;
+    land(s, r, g, depth, cls[0], hit[0], foot, foot_ok, power * share, out);
+    land(s, r, g, depth, cls[other], hit[other], other_foot, other_ok, power * (1.0 - share),
+         out);
+}
+
+// The footprint of a beam (its corner rays o[1..4] + t d[1..4]) on the plane of face f;
+// false when a corner ray does not meet that plane ahead from its front.
+bool LightBeams::footprint(int face, const Vec3 o[5], const Vec3 d[5], Vec3 foot[4]) const {
+    const Face& f = m_scene.faces[size_t(face)];
+    for (int k = 0; k < 4; ++k) {
+        const double denom = glm::dot(f.normal, d[k + 1]);
+        const double t = (f.plane_offset - glm::dot(f.normal, o[k + 1])) / denom;
+        if (!(denom < 0.0 && t > 0.0 && std::isfinite(t))) return false;
+        foot[k] = o[k + 1] + t * d[k + 1];
+    }
+    return true;
+}
+
+// The part of a footprint on face f within its chart: the quad clipped by the face's
+// edges on the chart's rim (an edge shared inside the chart lets it run on), over the
+// quad's area; in the chart's texel coordinates, where area ratios are the plane's.
+double LightBeams::rim_share(int face, const Vec3 foot[4]) const {
+    const Face& f = m_scene.faces[size_t(face)];
+    const TexelFrame& frame = m_scene.chart_of(f).texels;
+    std::vector<Vec2> poly(4), next;
+    for (int k = 0; k < 4; ++k) poly[size_t(k)] = frame.to_texel(foot[k]);
+    auto area = [](const std::vector<Vec2>& p) {
+        double a = 0.0;
+        for (size_t k = 0; k < p.size(); ++k) {
+            const Vec2 &u = p[k], &v = p[(k + 1) % p.size()];
+            a += u.x * v.y - u.y * v.x;
+        }
+        return 0.5 * std::abs(a);
+    };
+    const double whole = area(poly);
+    if (!(whole > 0.0)) return 1.0;
+    const size_t n = f.vertices.size();
+    for (size_t e = 0; e < n && !poly.empty(); ++e) {
+        if (e < 64 && (f.inner_edges >> e) & 1u) continue;
+        const Vec2 a = frame.to_texel(f.vertices[e]), b = frame.to_texel(f.vertices[(e + 1) % n]);
+        // Sutherland-Hodgman against the left of a -> b (the face is counter-clockwise).
+        auto side = [&](const Vec2& p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); };
+        next.clear();
+        for (size_t k = 0; k < poly.size(); ++k) {
+            const Vec2 &p = poly[k], &q = poly[(k + 1) % poly.size()];
+            const double sp = side(p), sq = side(q);
+            if (sp >= 0) next.push_back(p);
+            if ((sp >= 0) != (sq >= 0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
+        }
+        poly.swap(next);
+    }
+    return std::clamp(area(poly) / whole, 0.0, 1.0);
+}
+
+// What a beam (or part of one) does where it lands: escapes (cls -1), is absorbed by a
+// back face (-2), or reaches the front of a face: rho_d of it into the texels under its
+// footprint, rho_s of it on as the reflected beam, the rest absorbed.
+void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int depth, int cls,
+                      const RayHit& hit, const Vec3 foot[4], bool foot_ok, const Rgb& power,
+                      LightShotResult& out) const {
+    if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
+    if (cls == -1) {
+        out.escaped += power;
+        return;
+    }
+    if (cls == -2) {
+        out.absorbed_back += power;  // a one-sided face's black back
+        return;
+    }
+    const Face& f = m_scene.faces[size_t(hit.face)];
+    const Material& m = m_scene.material_of(f);
+    Rgb reflected(0.0);
+    if (m.is_diffuse()) deposit(f, foot, foot_ok, hit.point, power, out, reflected);
+    out.absorbed += power * (Rgb(1.0) - m.specular) - reflected;
+    if (!m.is_specular()) return;
+    if (g.bounce >= kMaxBounces) {
+        out.absorbed += power * m.specular;
+        return;
+    }
+    // The beam reflected in the face's plane: x -> H x + 2 c n, H = I - 2 n n^T.
+    Segment next;
+    const Mat3 H = Mat3(1.0) - 2.0 * glm::outerProduct(f.normal, f.normal);
+    next.M = H * g.M;
+    next.t = H * g.t + 2.0 * f.plane_offset * f.normal;
+    next.has_start = true;
+    next.n = f.normal;
+    next.c = f.plane_offset;
+    next.bounce = g.bounce + 1;
+    trace(s, r, next, power * m.specular, depth, out);
+}
+
+void LightBeams::shoot(int64_t k0, int64_t k1, LightShotResult& out) const {
+    for (int64_t k = k0; k < k1; ++k) {
+        const size_t si = size_t(std::upper_bound(m_first.begin(), m_first.end(), k) -
+                                 m_first.begin());
+        const Source& s = m_sources[si];
+        const int64_t local = k - (si == 0 ? 0 : m_first[si - 1]);
+        const int R = s.resolution;
+        const int64_t per_side = int64_t(R) * R;
+        Rect r;
+        r.side = int(local / per_side);
+        const int64_t p = local % per_side;
+        const int i = int(p % R), j = int(p / R);
+        r.u0 = -1.0 + 2.0 * i / R;
+        r.u1 = -1.0 + 2.0 * (i + 1) / R;
+        r.v0 = -1.0 + 2.0 * j / R;
+        r.v1 = -1.0 + 2.0 * (j + 1) / R;
+        Rgb power;
+        if (s.parallel) {
+            // Squares wholly outside the unit ball's shadow cannot meet the scene.
+            const double cu = std::clamp(0.0, r.u0, r.u1), cv = std::clamp(0.0, r.v0, r.v1);
+            if (cu * cu + cv * cv > 1.0) continue;
+            power = s.unit_power * ((r.u1 - r.u0) * (r.v1 - r.v0));
+        } else if (s.light->type == LightType::Point) {
+            power = s.unit_power * cube_solid_angle(r.u0, r.u1, r.v0, r.v1);
+        } else {  // spot: its falloff integrated over the beam
+            const int q = kSpotQuadrature;
+            const double hu = (r.u1 - r.u0) / q, hv = (r.v1 - r.v0) / q;
+            double w = 0.0;
+            for (int b = 0; b < q; ++b)
+                for (int a = 0; a < q; ++a) {
+                    const double u = r.u0 + a * hu, v = r.v0 + b * hv;
+                    const Vec3 dir = glm::normalize(cube_direction(r.side, u + 0.5 * hu, v + 0.5 * hv));
+                    w += s.light->falloff(dir) * cube_solid_angle(u, u + hu, v, v + hv);
+                }
+            if (!(w > 0.0)) continue;
+            power = s.unit_power * w;
+        }
+        out.emitted += power;
+        trace(s, r, Segment{}, power, 0, out);
+    }
+}
+
+}  // namespace vlf

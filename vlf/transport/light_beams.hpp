@@ -1,0 +1,121 @@
+// light_beams.hpp — the first shot of point, spot and directional lights (light.hpp) by
+// adaptive beam tracing (issue 14, docs/propagation.md §12).
+//
+// A delta light has no area, so it owns no rays of the field's subfields; its light enters
+// the field in cycle 1 as a deposit into P^N of the surfaces it reaches, directly or through
+// mirrors (the caustic), and from there on it is shot like any other diffuse light.
+//
+// The light's directions are cut into beams that partition them exactly:
+//   point, spot   the six faces of a cube around the light, R x R pixels each; a pixel's
+//                 solid angle is exact (cube_solid_angle), so the beams of a point light
+//                 carry 4 pi I in all (the image-space caustics paper's light-space grid of
+//                 rays, §3.1, with a pyramid instead of a sample per pixel);
+//   directional   a square grid on a plane across the scene's bounding ball, facing the
+//                 light; each square carries E x its area (a parallel subfield of the
+//                 light's own direction, VLF §3). A source with an angular diameter (the
+//                 sun) is several such subfields over its disc, E split evenly.
+// A beam is traced by its centre ray and its four corner rays. While its corners meet
+// another surface than its centre, or its footprint is wider than half a texel (or than
+// the rim reach of texel_clip.hpp), it is split in four (its power by exact solid angle, or
+// by area) down to kMaxDepth levels; so shadow edges and face rims are resolved far below
+// a texel, and a lit texel's power is the exact integral of the irradiance over it to
+// second order in the footprint size. A leaf beam's footprint on the face its centre meets
+// is clipped against the chart's texels as the field's beams are (clip_footprint_to_grid:
+// over-the-rim parts mirrored back) and rho_d of its power goes to P^N by overlap area;
+// rho_s of it goes on as the beam reflected in that face's plane (its rays continue from
+// the mirror: the affine reflection is composed onto the beam, so a sub-beam of a
+// reflected beam is still an exact part of the light's directions); the rest is absorbed.
+// Beams that leave the scene escape; beams on a back face are absorbed there. Every root
+// beam's power is booked as emitted, and every watt of it ends in one of those places.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vlf/field/texture_maps.hpp"
+#include "vlf/scene/raycaster.hpp"
+#include "vlf/scene/scene.hpp"
+#include "vlf/transport/ledger.hpp"
+#include "vlf/transport/texel_clip.hpp"
+
+namespace vlf {
+
+// The solid angle of the rectangle [u0,u1] x [v0,v1] on the plane at distance 1 from the
+// eye, seen from the eye (exact).
+double cube_solid_angle(double u0, double u1, double v0, double v1);
+
+// What a share of the lights' beams deposits, in normalised power units (ledger.hpp).
+struct LightShotResult {
+    explicit LightShotResult(std::vector<Rgb>& n) : next(n) {}
+    std::vector<Rgb>& next;  // P^N per texel (TextureMaps order)
+    Rgb emitted{0.0}, absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
+    NumericalLoss lost;
+    int64_t leaves = 0;  // leaf beams traced
+};
+
+class LightBeams {
+  public:
+    // `polygons`: every face's rim in its chart's texels within `reach` (normalised units),
+    // as the transport keeps them (texel_clip.hpp faces_in_texels).
+    LightBeams(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
+               const std::vector<FaceInTexels>& polygons, double reach);
+
+    // The root beams over all the scene's lights, in a fixed order.
+    int64_t roots() const { return m_first.empty() ? 0 : m_first.back(); }
+    // Traces root beams [k0, k1).
+    void shoot(int64_t k0, int64_t k1, LightShotResult& out) const;
+
+    // Split levels below a root beam; a point light's leaves are then at most
+    // 90 deg / (R x 2^kMaxDepth) across.
+    static constexpr int kMaxDepth = 10;
+    // A mirror path ends after this many reflections; what is left is absorbed.
+    static constexpr int kMaxBounces = 16;
+
+  private:
+    // One light, or one subfield of a directional light's disc (normalised units).
+    struct Source {
+        const Light* light = nullptr;
+        bool parallel = false;
+        Vec3 position{0.0};   // point, spot
+        Vec3 direction{0.0};  // parallel: the way the light travels
+        Vec3 base{0.0}, e1{0.0}, e2{0.0};  // parallel: the root grid's plane, point = base + u e1 + v e2
+        Rgb unit_power{0.0};  // point, spot: intensity x scale^2; parallel: E / subfields
+        int resolution = 1;   // root beams per side (of each cube face)
+    };
+    // The mirrors a beam has been reflected in: virtual = M x + t maps the light's own rays
+    // onto the reflected ones, which start on the last mirror's plane (n . x = c).
+    struct Segment {
+        Mat3 M{1.0};
+        Vec3 t{0.0};
+        bool has_start = false;
+        Vec3 n{0.0};
+        double c = 0.0;
+        int bounce = 0;
+    };
+    struct Rect {
+        int side;  // cube face (point, spot); 0 (directional)
+        double u0, u1, v0, v1;
+    };
+    void ray(const Source& s, const Segment& g, int side, double u, double v, Vec3& o,
+             Vec3& d) const;
+    double weight(const Source& s, const Rect& r) const;  // relative power of a beam
+    void trace(const Source& s, const Rect& r, const Segment& g, const Rgb& power, int depth,
+               LightShotResult& out) const;
+    bool footprint(int face, const Vec3 o[5], const Vec3 d[5], Vec3 foot[4]) const;
+    double rim_share(int face, const Vec3 foot[4]) const;
+    void land(const Source& s, const Rect& r, const Segment& g, int depth, int cls,
+              const RayHit& hit, const Vec3 foot[4], bool foot_ok, const Rgb& power,
+              LightShotResult& out) const;
+    void deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const Vec3& centre,
+                 const Rgb& power, LightShotResult& out, Rgb& reflected) const;
+
+    const Scene& m_scene;
+    const RayCaster& m_caster;
+    const TextureMaps& m_tex;
+    const std::vector<FaceInTexels>& m_polygons;
+    double m_reach;
+    std::vector<Source> m_sources;
+    std::vector<int64_t> m_first;  // per source, one past its last root beam (prefix sums)
+};
+
+}  // namespace vlf
