@@ -12,6 +12,7 @@
 
 #include "test_util.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/scene/light.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene_loader.hpp"
 
@@ -216,6 +217,165 @@ TEST(SceneImport, GltfTransmissionIsKeptAndNoted) {
     EXPECT_TRUE(has_note(s, "transmission 0.9"));
 }
 
+// ---- glTF lights (KHR_lights_punctual) ---------------------------------------------------
+
+const Light& light_named(const Scene& s, const std::string& name) {
+    for (const Light& l : s.lights)
+        if (l.name == name) return l;
+    ADD_FAILURE() << "no light " << name;
+    return s.lights.front();
+}
+
+// quad_gltf() lit by KHR_lights_punctual lights (its lamp dark, so only the lights emit): a
+// point light "bulb" (colour [1, 0.5, 0.25] x 8 cd, range 10) at (0.25, 2, -0.5) in a node
+// under a parent translated by (1, 0, 0); a spot "cone" (3 cd, half-angles 0.2 and 0.6 rad)
+// at (0, 3, 0) turned -90 degrees about x so it shines down; a directional "sun" (2 lux x
+// [1, 1, 0.5]) turned -45 degrees about x, travelling along (0, -1, -1) / sqrt 2; and a
+// point light of zero intensity.
+std::string lights_gltf() {
+    nlohmann::json g = nlohmann::json::parse(quad_gltf());
+    g["materials"][1]["emissiveFactor"] = {0, 0, 0};
+    g["extensionsUsed"].push_back("KHR_lights_punctual");
+    g["extensions"]["KHR_lights_punctual"]["lights"] = nlohmann::json::parse(R"([
+        {"name": "bulb", "type": "point", "color": [1, 0.5, 0.25], "intensity": 8, "range": 10},
+        {"type": "spot", "intensity": 3, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.6}},
+        {"type": "directional", "color": [1, 1, 0.5], "intensity": 2},
+        {"type": "point", "intensity": 0}])");
+    auto& nodes = g["nodes"];
+    const size_t first = nodes.size();
+    nodes.push_back(nlohmann::json::parse(R"({"name": "holder", "translation": [1, 0, 0]})"));
+    nodes.back()["children"] = {first + 1};
+    for (
+        const char* n : {
+            R"({"name": "bulb", "translation": [0.25, 2, -0.5],
+                 "extensions": {"KHR_lights_punctual": {"light": 0}}})",
+            R"({"name": "cone", "translation": [0, 3, 0], "rotation": [-0.70710678, 0, 0, 0.70710678],
+                 "extensions": {"KHR_lights_punctual": {"light": 1}}})",
+            R"({"name": "sun", "rotation": [-0.38268343, 0, 0, 0.92387953],
+                 "extensions": {"KHR_lights_punctual": {"light": 2}}})",
+            R"({"name": "off", "translation": [0, 1, 0],
+                 "extensions": {"KHR_lights_punctual": {"light": 3}}})"})
+        nodes.push_back(nlohmann::json::parse(n));
+    for (size_t k : {first, first + 2, first + 3, first + 4}) g["scenes"][0]["nodes"].push_back(k);
+    return g.dump(1);
+}
+
+TEST(SceneImport, GltfLightsWithNodeTransformsUnitsAndNotes) {
+    TempDir dir("lights");
+    const std::string file = dir.write("lit.gltf", lights_gltf());
+    const Scene s = load_scene(file);  // loads: the lights are its only emitters
+    ASSERT_EQ(s.lights.size(), 3u);
+
+    const Light& bulb = light_named(s, "lit/bulb");
+    EXPECT_EQ(bulb.type, LightType::Point);
+    EXPECT_NEAR(glm::length(bulb.position - Vec3(1.25, 2, -0.5)), 0.0, 1e-6);
+    expect_rgb(bulb.intensity, {8, 4, 2});  // colour x intensity, 1 cd -> 1 W/sr
+
+    const Light& cone = light_named(s, "lit/cone");
+    EXPECT_EQ(cone.type, LightType::Spot);
+    EXPECT_NEAR(glm::length(cone.position - Vec3(0, 3, 0)), 0.0, 1e-6);
+    EXPECT_NEAR(glm::length(cone.direction - Vec3(0, -1, 0)), 0.0, 1e-6);
+    expect_rgb(cone.intensity, {3, 3, 3});
+    // glTF's cone angles are half-angles, taken as they are.
+    EXPECT_NEAR(cone.cos_inner, std::cos(0.2), 1e-6);
+    EXPECT_NEAR(cone.cos_outer, std::cos(0.6), 1e-6);
+
+    const Light& sun = light_named(s, "lit/sun");
+    EXPECT_EQ(sun.type, LightType::Directional);
+    EXPECT_NEAR(glm::length(sun.direction - Vec3(0, -1, -1) / std::sqrt(2.0)), 0.0, 1e-6);
+    expect_rgb(sun.irradiance, {2, 2, 1});  // 1 lux -> 1 W per square unit
+
+    EXPECT_TRUE(has_note(s, "lit.gltf: left out: light 'off' (point): zero intensity"));
+    EXPECT_TRUE(has_note(s, "lit.gltf: light 'bulb' (point): range 10 not kept"));
+    EXPECT_TRUE(has_note(s,
+                         "lit.gltf: light strengths taken as they are: "
+                         "KHR_lights_punctual's candela as W/sr"));
+    int unit_notes = 0;
+    for (const std::string& n : s.load_notes) unit_notes += n.find("candela") != std::string::npos;
+    EXPECT_EQ(unit_notes, 1);
+    EXPECT_FALSE(has_note(s, "attenuation"));  // glTF's lights are inverse square
+}
+
+// COLLADA (through assimp's other readers): full cone angles halved, a constant fall-off
+// replaced by the inverse square law (noted), a quadratic one divided out, ambient left out.
+TEST(SceneImport, ColladaLightsAttenuationAndFullConeAngles) {
+    TempDir dir("dae");
+    const std::string file = dir.write("lit.dae", R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Y_UP</up_axis></asset>
+  <library_lights>
+    <light id="lamp" name="lamp"><technique_common><point><color>2 2 2</color>
+      <constant_attenuation>1</constant_attenuation><linear_attenuation>0</linear_attenuation>
+      <quadratic_attenuation>0</quadratic_attenuation></point></technique_common></light>
+    <light id="cone" name="cone"><technique_common><spot><color>1 1 1</color>
+      <constant_attenuation>0</constant_attenuation><linear_attenuation>0</linear_attenuation>
+      <quadratic_attenuation>2</quadratic_attenuation><falloff_angle>60</falloff_angle>
+      <falloff_exponent>0</falloff_exponent><outer_cone>90</outer_cone></spot></technique_common>
+    </light>
+    <light id="sky" name="sky"><technique_common><ambient><color>0.1 0.1 0.1</color></ambient>
+    </technique_common></light>
+  </library_lights>
+  <library_geometries><geometry id="quad"><mesh>
+    <source id="p"><float_array id="pa" count="12">-1 0 -1 -1 0 1 1 0 1 1 0 -1</float_array>
+      <technique_common><accessor source="#pa" count="4" stride="3"><param name="X" type="float"/>
+        <param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common>
+    </source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <polylist count="1"><input semantic="VERTEX" source="#v" offset="0"/><vcount>4</vcount>
+      <p>0 1 2 3</p></polylist>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s">
+    <node id="floor" name="floor"><instance_geometry url="#quad"/></node>
+    <node id="lampnode" name="lampnode"><translate>0 2 0</translate><instance_light url="#lamp"/></node>
+    <node id="conenode" name="conenode"><translate>0 3 0</translate><rotate>1 0 0 -90</rotate>
+      <instance_light url="#cone"/></node>
+    <node id="skynode" name="skynode"><instance_light url="#sky"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)");
+    const Scene s = load_scene(file);
+    ASSERT_EQ(s.lights.size(), 2u);
+    const Light& lamp = light_named(s, "lit/lampnode");
+    EXPECT_NEAR(glm::length(lamp.position - Vec3(0, 2, 0)), 0.0, 1e-6);
+    expect_rgb(lamp.intensity, {2, 2, 2});
+    EXPECT_TRUE(has_note(s,
+                         "lit.dae: light 'lampnode' (point): attenuation 1 / (1 + 0 d + 0 d^2) "
+                         "replaced by the inverse square law"));
+    const Light& cone = light_named(s, "lit/conenode");
+    expect_rgb(cone.intensity, {0.5, 0.5, 0.5});  // 1 / (2 d^2): half the colour
+    EXPECT_NEAR(glm::length(cone.direction - Vec3(0, -1, 0)), 0.0, 1e-6);
+    EXPECT_NEAR(cone.cos_inner, std::cos(kPi / 6), 1e-6);  // 60 degrees across
+    EXPECT_NEAR(cone.cos_outer, std::cos(kPi / 4), 1e-6);  // 90 degrees across
+    EXPECT_FALSE(has_note(s, "light 'conenode' (spot): attenuation"));
+    EXPECT_TRUE(has_note(s, "lit.dae: left out: light 'skynode' (ambient)"));
+    EXPECT_TRUE(has_note(s, "lit.dae: light strengths (colour x intensity) taken as they are"));
+}
+
+// An import object's transform moves the file's lights (positions, directions) as it moves its
+// geometry and cameras; names are prefixed with the object's and stay unique.
+TEST(SceneImport, JsonImportObjectMovesAndNamesTheLights) {
+    TempDir dir("json_lights");
+    dir.write("lit.gltf", lights_gltf());
+    const Scene s = load_scene(dir.write("s.json", R"({
+        "materials": {},
+        "objects": [{"type": "import", "file": "lit.gltf", "name": "set",
+                     "rotate_y_deg": 90, "translate": [10, 0, 0]}],
+        "lights": [{"name": "set/bulb", "type": "point", "position": [0, 5, 0],
+                    "intensity": [1, 1, 1]}]})"));
+    ASSERT_EQ(s.lights.size(), 4u);
+    EXPECT_EQ(s.lights[0].name, "set/bulb");  // the scene's own, first
+    // Rotating (x, y, z) by 90 degrees about y gives (z, y, -x).
+    const Light& bulb = light_named(s, "set/bulb#2");
+    EXPECT_NEAR(glm::length(bulb.position - Vec3(10 - 0.5, 2, -1.25)), 0.0, 1e-6);
+    const Light& cone = light_named(s, "set/cone");
+    EXPECT_NEAR(glm::length(cone.position - Vec3(10, 3, 0)), 0.0, 1e-6);
+    EXPECT_NEAR(glm::length(cone.direction - Vec3(0, -1, 0)), 0.0, 1e-6);
+    const Light& sun = light_named(s, "set/sun");
+    EXPECT_NEAR(glm::length(sun.direction - Vec3(-1, -1, 0) / std::sqrt(2.0)), 0.0, 1e-6);
+    EXPECT_NEAR(glm::length(sun.position), 0.0, 1e-12);  // not moved: it has none
+}
+
 // ---- JSON "import" objects: transform, overrides ----------------------------------------
 
 TEST(SceneImport, JsonImportObjectWithTransformAndOverrides) {
@@ -329,6 +489,17 @@ TEST(SceneImport, MalformedFilesAndKeysAreNamed) {
               "COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 255 0 0 255\n0 1 0 255 0 0 255\n3 0 1 2\n");
     EXPECT_NO_THROW(load_scene(dir.write("d.json", R"({"materials": {"l": {"emission": [1, 1, 1]}},
         "objects": [{"type": "mesh", "file": "c.off", "material": "l"}]})")));
+}
+
+// A file's light beyond the loader's bound names the file and the light.
+TEST(SceneImport, LightStrengthOutOfRangeIsNamed) {
+    TempDir dir("light_range");
+    nlohmann::json g = nlohmann::json::parse(lights_gltf());
+    g["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = 1e21;
+    const std::string file = dir.write("hot.gltf", g.dump());
+    expect_load_error(file, file +
+                                ": light 'bulb' (point): strength [1e+21, 5e+20, 2.5e+20] is "
+                                "out of range (at most 1e20)");
 }
 
 TEST(SceneImport, MeshFilesThatReadersWouldPadOrEmptyAreNamed) {

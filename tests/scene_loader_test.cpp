@@ -14,6 +14,7 @@
 
 #include "test_util.hpp"
 #include "vlf/core/error.hpp"
+#include "vlf/scene/light.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene.hpp"
 #include "vlf/scene/texel_frame.hpp"
@@ -439,7 +440,7 @@ TEST(SceneBadInput, MalformedJsonNamesLineAndColumn) {
 TEST(SceneBadInput, UnknownTopLevelKey) {
     expect_error(R"({"materials": {}, "objects": [], "colour": 1})",
                  "bad.json: colour: unknown key (expected one of: $schema, materials, objects, "
-                 "cameras, settings)");
+                 "cameras, lights, settings)");
 }
 
 // "$schema" (docs/scene.schema.json, for editors) is accepted and ignored; nothing else is.
@@ -599,6 +600,94 @@ TEST(SceneBadInput, BadCamera) {
     expect_error(cam(R"({"name": "a", "eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40},
                         {"name": "a", "eye": [0,0,0], "look_at": [0,0,1], "fov_y_deg": 40})"),
                  "bad.json: cameras[1].name: duplicate camera name 'a'");
+}
+
+// A scene of one closed white room lit only by `lights` (no emissive material).
+std::string lit_room(const std::string& lights) {
+    return R"({"materials": {"white": {"diffuse": [0.5, 0.5, 0.5]}}, "objects": [
+        {"type": "box", "min": [0,0,0], "max": [1,1,1], "material": "white", "flip": true}],
+        "lights": [)" +
+           lights + "]}";
+}
+
+// A point light alone lights the scene: it loads, the light in user units.
+TEST(SceneLights, APointLightAloneIsAnEmitter) {
+    const Scene s = load_scene_from_string(
+        lit_room(R"({"name": "bulb", "type": "point", "position": [0.5, 0.9, 0.5],
+                     "power": [4, 8, 12]})"),
+        "lit.json", kScenes);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_EQ(s.lights[0].name, "bulb");
+    EXPECT_EQ(s.emitter_count(), 0);
+    EXPECT_NEAR(glm::length(s.lights[0].position - Vec3(0.5, 0.9, 0.5)), 0.0, 1e-12);
+    EXPECT_NEAR(s.lights[0].intensity.y, 8 / (4 * kPi), 1e-12);  // power = 4 pi I
+    EXPECT_NEAR(s.lights[0].power().z, 12, 1e-9);
+    // A spot's power spreads over its cone (smoothstep between the half-angles).
+    const Scene t = load_scene_from_string(
+        lit_room(R"({"type": "spot", "position": [0.5, 0.9, 0.5], "direction": [0, -2, 0],
+                     "inner_deg": 20, "outer_deg": 40, "power": [1, 1, 1]})"),
+        "lit.json", kScenes);
+    const Light& spot = t.lights[0];
+    EXPECT_EQ(spot.name, "light#0");
+    EXPECT_NEAR(spot.direction.y, -1.0, 1e-12);
+    EXPECT_NEAR(spot.cos_outer, std::cos(40 * kPi / 180), 1e-12);
+    const double ci = std::cos(20 * kPi / 180), co = std::cos(40 * kPi / 180);
+    EXPECT_NEAR(spot.intensity.x * 2 * kPi * ((1 - ci) + (ci - co) / 2), 1.0, 1e-12);
+    // Lights that do not emit are no emitter.
+    expect_error(lit_room(R"({"type": "point", "position": [0.5, 0.9, 0.5], "power": [0, 0, 0]})"),
+                 "bad.json: objects: no emitter");
+}
+
+// Every bad light names its place with one clear message.
+TEST(SceneBadInput, BadLights) {
+    const std::string at = R"("position": [0.5, 0.9, 0.5], )";
+    const std::string spot =
+        R"({"type": "spot", "position": [0.5, 0.9, 0.5], "power": [1, 1, 1], )";
+    expect_error(lit_room(R"({"type": "area", )" + at + R"("power": [1, 1, 1]})"),
+                 "bad.json: lights[0].type: unknown light type 'area' (known: point, spot, "
+                 "directional)");
+    expect_error(
+        lit_room(R"({"type": "point", )" + at + R"("power": [1,1,1], "intensity": [1,1,1]})"),
+        "bad.json: lights[0].intensity: give either power or intensity, not both");
+    expect_error(lit_room(R"({"type": "point", "position": [0.5, 0.9, 0.5]})"),
+                 "bad.json: lights[0]: a point or spot light needs power (W) or intensity (W/sr)");
+    expect_error(lit_room(R"({"type": "point", )" + at + R"("power": [1, -1, 1]})"),
+                 "bad.json: lights[0].power[1]: must be >= 0 (got -1)");
+    expect_error(lit_room(R"({"type": "point", )" + at + R"("intensity": [1, 1, 1e21]})"),
+                 "bad.json: lights[0].intensity[2]: must be <= 1e20");
+    expect_error(lit_room(spot + R"("direction": [0, -1, 0], "outer_deg": 0})"),
+                 "bad.json: lights[0].outer_deg: must be in (0, 180] degrees (got 0)");
+    expect_error(lit_room(spot + R"("direction": [0, -1, 0], "outer_deg": 181})"),
+                 "bad.json: lights[0].outer_deg: must be in (0, 180] degrees (got 181)");
+    expect_error(lit_room(spot + R"("direction": [0, -1, 0], "outer_deg": 30, "inner_deg": 40})"),
+                 "bad.json: lights[0].inner_deg: must be in [0, outer_deg = 30] degrees (got 40)");
+    expect_error(lit_room(spot + R"("direction": [0, 0, 0], "outer_deg": 30})"),
+                 "bad.json: lights[0].direction: must be a non-zero direction");
+    expect_error(lit_room(R"({"type": "spot", )" + at + R"("power": [1, 1, 1], "outer_deg": 30})"),
+                 "bad.json: lights[0]: missing required key 'direction'");
+    expect_error(
+        lit_room(R"({"type": "directional", "direction": [0, 0, 0], "irradiance": [1, 1, 1]})"),
+        "bad.json: lights[0].direction: must be a non-zero direction");
+    expect_error(
+        lit_room(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": [1, 1, 1],
+                              "angular_diameter_deg": 31})"),
+        "bad.json: lights[0].angular_diameter_deg: must be in [0, 30] (got 31)");
+    expect_error(lit_room(R"({"type": "point", )" + at + R"("power": [1, 1, 1], "colour": 2})"),
+                 "bad.json: lights[0].colour: unknown key for a point light (expected one of: "
+                 "type, name, position, power, intensity)");
+    expect_error(
+        lit_room(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": [1, 1, 1],
+                              "position": [0, 1, 0]})"),
+        "bad.json: lights[0].position: unknown key for a directional light");
+    expect_error(lit_room(R"({"type": "point", "position": [0, 1e16, 0], "power": [1, 1, 1]})"),
+                 "bad.json: lights[0].position[1]: coordinate 1e+16 is beyond +-1e15");
+    expect_error(lit_room(R"({"name": "a", "type": "point", )" + at + R"("power": [1, 1, 1]},
+                             {"name": "a", "type": "point", )" +
+                          at + R"("power": [1, 1, 1]})"),
+                 "bad.json: lights[1]: duplicate light name 'a'");
+    expect_error(
+        R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp + R"(], "lights": {}})",
+        "bad.json: lights: expected an array");
 }
 
 TEST(SceneBadInput, BadTexelSize) {

@@ -51,6 +51,13 @@ BASE = {
          "material": "white"},
     ],
     "cameras": [{"name": "c", "eye": [0.5, 0.5, 0.05], "look_at": [0.5, 0.5, 1], "fov_y_deg": 60}],
+    "lights": [
+        {"name": "bulb", "type": "point", "position": [0.5, 0.8, 0.5], "power": [10, 10, 10]},
+        {"type": "spot", "position": [0.2, 0.9, 0.2], "direction": [0, -1, 0], "inner_deg": 10,
+         "outer_deg": 30, "intensity": [1, 1, 1]},
+        {"type": "directional", "direction": [0, -1, -1], "irradiance": [2, 2, 2],
+         "angular_diameter_deg": 0.53},
+    ],
     "settings": {"texel_size": 0.1, "units": "m"},
 }
 
@@ -91,6 +98,23 @@ CASES = [
     ("settings.texel_size", lambda s: s["settings"].update(texel_size=0)),
     ("settings.seed", lambda s: s["settings"].update(seed=1)),
     ('["$schema"]', lambda s: s.update({"$schema": 1})),
+    ("lights", lambda s: s.update(lights={})),
+    ("lights[0].type", lambda s: s["lights"][0].update(type="area")),
+    ("lights[0].colour", lambda s: s["lights"][0].update(colour=[1, 1, 1])),
+    ("lights[0].intensity", lambda s: s["lights"][0].update(intensity=[1, 1, 1])),
+    ("lights[0]", lambda s: s["lights"][0].pop("power")),
+    ("lights[0].inner_deg", lambda s: s["lights"][0].update(inner_deg=10)),
+    ("lights[0].power[1]", lambda s: s["lights"][0].update(power=[1, -1, 1])),
+    ("lights[0].power[2]", lambda s: s["lights"][0].update(power=[1, 1, 1e21])),
+    ("lights[0].position[1]", lambda s: s["lights"][0].update(position=[0, 1e16, 0])),
+    ("lights[1]", lambda s: s["lights"][1].pop("direction")),
+    ("lights[1].direction", lambda s: s["lights"][1].update(direction=[0, 0, 0])),
+    ("lights[1].outer_deg", lambda s: s["lights"][1].update(outer_deg=0)),
+    ("lights[1].outer_deg", lambda s: s["lights"][1].update(outer_deg=181)),
+    ("lights[1].inner_deg", lambda s: s["lights"][1].update(inner_deg=-1)),
+    ("lights[2].position", lambda s: s["lights"][2].update(position=[0, 1, 0])),
+    ("lights[2].angular_diameter_deg", lambda s: s["lights"][2].update(angular_diameter_deg=31)),
+    ("lights[2]", lambda s: s["lights"][2].pop("irradiance")),
 ]
 
 

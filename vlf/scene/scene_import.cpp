@@ -413,8 +413,8 @@ const char* light_kind(aiLightSourceType t) {
 // 0 0 -1 into mDirection and the spot's cone half-angles (glTF's convention) into
 // mAngleInnerCone / mAngleOuterCone; assimp's other readers give full cone angles there
 // (Collada's falloff_angle, 3ds Max's hotspot and falloff), as its light.h says.
-std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::string>& left_out,
-                             std::vector<std::string>& notes) {
+std::vector<Light> lights_of(const aiScene& scene, const std::string& path, bool gltf,
+                             std::vector<std::string>& left_out, std::vector<std::string>& notes) {
     std::vector<Light> out;
     std::set<std::string> names;
     for (unsigned k = 0; k < scene.mNumLights; ++k) {
@@ -429,9 +429,9 @@ std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::s
         else if (l.mType == aiLightSource_DIRECTIONAL)
             light.type = LightType::Directional;
         else {
-            left_out.push_back(
-                what + ": VLF lights are point, spot and directional (an emissive surface "
-                       "makes an area light)");
+            left_out.push_back(what +
+                               ": VLF lights are point, spot and directional (an emissive surface "
+                               "makes an area light)");
             continue;
         }
         const aiNode* node = l.mName.length ? scene.mRootNode->FindNode(l.mName) : nullptr;
@@ -447,30 +447,30 @@ std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::s
 
         // assimp's fall-off is 1 / (constant + linear d + quadratic d^2); VLF's lights fall
         // off as 1 / d^2, so only quadratic alone is kept (as intensity / quadratic).
+        std::vector<std::string> changed;  // noted when the light is kept
         if (light.type != LightType::Directional) {
             const double c0 = l.mAttenuationConstant, c1 = l.mAttenuationLinear,
                          c2 = l.mAttenuationQuadratic;
             if (c0 == 0 && c1 == 0 && c2 > 0) {
                 strength /= c2;
             } else {
-                notes.push_back(fmt::format(
+                changed.push_back(fmt::format(
                     "{}: attenuation 1 / ({:.3g} + {:.3g} d + {:.3g} d^2) replaced by the "
                     "inverse square law 1 / d^2",
                     what, c0, c1, c2));
             }
             float range = 0.0f;
             if (gltf && node->mMetaData && node->mMetaData->Get("PBR_LightRange", range))
-                notes.push_back(fmt::format(
+                changed.push_back(fmt::format(
                     "{}: range {:.3g} not kept (the light reaches every distance)", what, range));
         }
         const Vec3 position = to_vec(xf * l.mPosition);
         const double finite = glm::length(strength) + glm::length(direction);
-        if (!std::isfinite(finite) ||
-            !(std::max({std::abs(position.x), std::abs(position.y), std::abs(position.z)}) <=
-              1e15)) {
-            left_out.push_back(
-                what + ": a strength or direction that is not finite, or a position beyond "
-                       "+-1e15");
+        if (!std::isfinite(finite) || !(std::max({std::abs(position.x), std::abs(position.y),
+                                                  std::abs(position.z)}) <= 1e15)) {
+            left_out.push_back(what +
+                               ": a strength or direction that is not finite, or a position beyond "
+                               "+-1e15");
             continue;
         }
         if (!(std::max({strength.x, strength.y, strength.z}) > 0)) {
@@ -478,8 +478,8 @@ std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::s
             continue;
         }
         if (!(std::max({strength.x, strength.y, strength.z}) <= 1e20))
-            throw Error(fmt::format("{}: strength {} is out of range (at most 1e20)", what,
-                                    rgb_text(strength)));
+            throw Error(fmt::format("{}: {}: strength {} is out of range (at most 1e20)", path,
+                                    what, rgb_text(strength)));
         if (light.type != LightType::Point) {
             if (!(glm::length(direction) > 0)) {
                 left_out.push_back(what + ": its node's transform leaves it no direction");
@@ -496,12 +496,13 @@ std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::s
         if (light.type == LightType::Spot) {
             const double to_half = gltf ? 1.0 : 0.5;
             const double outer = std::min(double(l.mAngleOuterCone) * to_half, kPi);
-            const double inner = std::clamp(double(l.mAngleInnerCone) * to_half, 0.0, outer);
             if (!(outer > 0)) {
                 left_out.push_back(
                     fmt::format("{}: outer cone angle {:.3g} (no cone)", what, l.mAngleOuterCone));
                 continue;
             }
+            const double given_inner = double(l.mAngleInnerCone) * to_half;
+            const double inner = given_inner >= 0 ? std::min(given_inner, outer) : 0.0;
             light.cos_inner = std::cos(inner);
             light.cos_outer = std::cos(outer);
         }
@@ -509,6 +510,7 @@ std::vector<Light> lights_of(const aiScene& scene, bool gltf, std::vector<std::s
         for (int n = 2; !names.insert(light.name).second; ++n)
             light.name = fmt::format("{}#{}", name, n);
         out.push_back(light);
+        notes.insert(notes.end(), changed.begin(), changed.end());
     }
     if (!out.empty())
         notes.push_back(
@@ -583,7 +585,7 @@ ImportedScene import_scene_file(const std::string& path) {
         out.left_out.push_back(
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
     out.cameras = cameras_of(*scene, gltf ? &extras : nullptr, out.left_out);
-    out.lights = lights_of(*scene, gltf, out.left_out, out.notes);
+    out.lights = lights_of(*scene, path, gltf, out.left_out, out.notes);
     return out;
 }
 
