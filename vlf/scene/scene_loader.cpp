@@ -14,8 +14,8 @@
 // Keys (anything else is an error; "?" = optional, with its default). docs/scene.schema.json
 // says the same as a JSON Schema; keep the two in step (tests/scene_schema_test.py).
 //   top level  materials {name: material}, objects [object, ...] (non-empty),
-//              cameras? [camera, ...], lights? [light, ...], settings? {texel_size? (> 0, user units),
-//              units? (string)}, $schema? (string: the schema, for editors; ignored)
+//              cameras? [camera, ...], lights? [light, ...], settings? {texel_size? (> 0, user
+//              units), units? (string)}, $schema? (string: the schema, for editors; ignored)
 //   material   diffuse? [r,g,b] = 0, specular? [r,g,b] = 0 (each in [0,1],
 //              diffuse + specular <= 1 per channel), emission? [r,g,b] = 0 (>= 0, W m^-2 sr^-1)
 //   object     type (polygon|box|sphere|cylinder|mesh|import), material (optional for
@@ -365,16 +365,17 @@ Light validate_light(const Reader& r, int index) {
     const char* kBound = "must be <= 1e20 (the power ledger would overflow)";
     if (l.type == LightType::Directional) {
         r.only_keys({"type", "name", "direction", "irradiance", "angular_diameter_deg"},
-                    "a directional light");
+                    " for a directional light");
         l.direction = unit_direction(r.required("direction"));
         l.irradiance = checked_rgb(r.required("irradiance"), kMaxEmission, kBound);
-        if (const auto a = r.optional("angular_diameter_deg")) l.angular_diameter_deg = a->number(0, 30);
+        if (const auto a = r.optional("angular_diameter_deg"))
+            l.angular_diameter_deg = a->number(0, 30);
         return l;
     }
     std::vector<std::string> keys = {"type", "name", "position", "power", "intensity"};
     if (l.type == LightType::Spot)
         for (const char* k : {"direction", "inner_deg", "outer_deg"}) keys.push_back(k);
-    r.only_keys(keys, fmt::format("a {} light", light_type_name(l.type)));
+    r.only_keys(keys, fmt::format(" for a {} light", light_type_name(l.type)));
     const Reader pos = r.required("position");
     l.position = pos.vec3();
     for (int i = 0; i < 3; ++i)

@@ -12,9 +12,19 @@ namespace vlf {
 
 namespace {
 
-// Root beams per side of a cube face (point, spot) and of a directional light's grid.
+// Root beams per side of a cube face (point, spot) and of a directional light's grid: at
+// least these, and at least kRootsPerTexel per texel across (at the scene's radius from a
+// point light), so that little of a texel's size falls between the root beams' rays
+// unseen (a corner poking into a beam between its rays); at most kMaxRoots.
 constexpr int kPointRoots = 16;
 constexpr int kParallelRoots = 32;
+constexpr int kMaxRoots = 2048;
+constexpr double kRootsPerTexel = 1.0;
+// A spot's beam splits while its falloff varies across it by more than this fraction.
+// (relative to the larger of its value and kFalloffFloor: where the falloff nears zero, a
+// small absolute variation).
+constexpr double kFalloffVariation = 0.05;
+constexpr double kFalloffFloor = 0.02;
 // A directional light's root grid lies this far behind the scene's centre (outside the
 // unit ball) and spans [-1, 1]^2 across it.
 constexpr double kParallelBase = 2.0;
@@ -39,15 +49,30 @@ Vec3 cube_direction(int side, double u, double v) {
     return d;
 }
 
-int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const Vec3& d,
-             double tmin, RayHit& hit) {
-    if (!caster.intersect(o, d, tmin, 1e30, hit)) return -1;       // leaves the scene
+int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const Vec3& d, double tmin,
+             RayHit& hit) {
+    if (!caster.intersect(o, d, tmin, 1e30, hit)) return -1;  // leaves the scene
     const Face& f = scene.faces[hit.face];
-    if (glm::dot(f.normal, d) >= 0.0) return -2;                    // a back face
+    if (glm::dot(f.normal, d) >= 0.0) return -2;  // a back face
     return f.chart;
 }
 
 }  // namespace
+
+// A spot's falloff integrated over a beam's solid angle: a q x q midpoint rule, each
+// cell's solid angle exact.
+double LightBeams::spot_weight(const Light& l, const Rect& r) {
+    const int q = kSpotQuadrature;
+    const double hu = (r.u1 - r.u0) / q, hv = (r.v1 - r.v0) / q;
+    double w = 0.0;
+    for (int b = 0; b < q; ++b)
+        for (int a = 0; a < q; ++a) {
+            const double u = r.u0 + a * hu, v = r.v0 + b * hv;
+            const Vec3 dir = glm::normalize(cube_direction(r.side, u + 0.5 * hu, v + 0.5 * hv));
+            w += l.falloff(dir) * cube_solid_angle(u, u + hu, v, v + hv);
+        }
+    return w;
+}
 
 double cube_solid_angle(double u0, double u1, double v0, double v1) {
     return corner_angle(u1, v1) - corner_angle(u0, v1) - corner_angle(u1, v0) +
@@ -58,6 +83,9 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
                        const std::vector<FaceInTexels>& polygons, double reach)
     : m_scene(scene), m_caster(caster), m_tex(tex), m_polygons(polygons), m_reach(reach) {
     const double s2 = scene.normalisation.scale * scene.normalisation.scale;
+    const double texel = m_texel = scene.texel_size_user * scene.normalisation.scale;
+    const int per_texel =
+        texel > 0.0 ? int(std::min<double>(kMaxRoots, std::ceil(2.0 * kRootsPerTexel / texel))) : 1;
     int64_t total = 0;
     for (const Light& l : scene.lights) {
         if (!l.emits()) continue;
@@ -76,12 +104,12 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
                 s.parallel = true;
                 const double r = K == 1 ? 0.0 : half * std::sqrt((k + 0.5) / K);
                 const double phi = k * 2.399963229728653;  // the golden angle
-                s.direction = glm::normalize(
-                    l.direction + std::tan(r) * (std::cos(phi) * a + std::sin(phi) * b));
+                s.direction = glm::normalize(l.direction +
+                                             std::tan(r) * (std::cos(phi) * a + std::sin(phi) * b));
                 orthonormal_basis(s.direction, s.e1, s.e2);
                 s.base = -kParallelBase * s.direction;
                 s.unit_power = l.irradiance / double(K);  // E x normalised area
-                s.resolution = kParallelRoots;
+                s.resolution = std::max(kParallelRoots, per_texel);
                 total += int64_t(s.resolution) * s.resolution;
                 m_sources.push_back(s);
                 m_first.push_back(total);
@@ -94,9 +122,11 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
         s.unit_power = l.intensity * s2;  // W/sr x (normalised / user area)
         // A spot's cone spans several root beams at least.
         const double outer_deg = std::acos(std::clamp(l.cos_outer, -1.0, 1.0)) * 180.0 / kPi;
-        s.resolution = l.type == LightType::Spot
-                           ? std::max(kPointRoots, int(std::ceil(360.0 / std::max(outer_deg, 0.5))))
-                           : kPointRoots;
+        s.resolution = std::max(kPointRoots, per_texel);
+        if (l.type == LightType::Spot)
+            s.resolution =
+                std::min(kMaxRoots,
+                         std::max(s.resolution, int(std::ceil(360.0 / std::max(outer_deg, 0.5)))));
         total += 6 * int64_t(s.resolution) * s.resolution;
         m_sources.push_back(s);
         m_first.push_back(total);
@@ -121,20 +151,38 @@ void LightBeams::ray(const Source& s, const Segment& g, int side, double u, doub
     d = glm::normalize(d);
 }
 
-// A beam's share of the light: its solid angle (point), with the spot's falloff over a
-// 2 x 2 quadrature, or its area (parallel). Only ratios between siblings are used.
-double LightBeams::weight(const Source& s, const Rect& r) const {
-    if (s.parallel) return (r.u1 - r.u0) * (r.v1 - r.v0);
-    if (s.light->type == LightType::Point) return cube_solid_angle(r.u0, r.u1, r.v0, r.v1);
-    double w = 0.0;
-    const double hu = 0.5 * (r.u1 - r.u0), hv = 0.5 * (r.v1 - r.v0);
-    for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-            const double a = r.u0 + i * hu, b = r.v0 + j * hv;
-            const Vec3 dir = glm::normalize(cube_direction(r.side, a + 0.5 * hu, b + 0.5 * hv));
-            w += s.light->falloff(dir) * cube_solid_angle(a, a + hu, b, b + hv);
-        }
-    return w;
+// The shares of a beam's four quarters (in the order of trace's split): their solid
+// angles (point), with the spot's falloff at the centres of their quarters (a 2 x 2 rule),
+// or their areas (parallel). The corner terms of the exact solid angles are shared
+// between neighbouring cells.
+void LightBeams::child_weights(const Source& s, const Rect& r, double w[4]) const {
+    if (s.parallel) {
+        w[0] = w[1] = w[2] = w[3] = 1.0;
+        return;
+    }
+    const bool spot = s.light->type == LightType::Spot;
+    const int n = spot ? 4 : 2;  // cells per side of the beam
+    double F[5][5];
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            F[j][i] = corner_angle(r.u0 + (r.u1 - r.u0) * i / n, r.v0 + (r.v1 - r.v0) * j / n);
+    const int h = n / 2;  // cells per side of a quarter
+    for (int q = 0; q < 4; ++q) {
+        const int i0 = (q % 2) * h, j0 = (q / 2) * h;
+        double sum = 0.0;
+        for (int j = j0; j < j0 + h; ++j)
+            for (int i = i0; i < i0 + h; ++i) {
+                const double cell = F[j + 1][i + 1] - F[j + 1][i] - F[j][i + 1] + F[j][i];
+                if (!spot) {
+                    sum += cell;
+                    continue;
+                }
+                const double u = r.u0 + (r.u1 - r.u0) * (i + 0.5) / n;
+                const double v = r.v0 + (r.v1 - r.v0) * (j + 0.5) / n;
+                sum += cell * s.light->falloff(glm::normalize(cube_direction(r.side, u, v)));
+            }
+        w[q] = sum;
+    }
 }
 
 void LightBeams::deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const Vec3& centre,
@@ -156,8 +204,8 @@ void LightBeams::deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const 
         for (int k = 0; k < 4; ++k) quad[k] = chart.texels.to_texel(foot[k]);
         thread_local std::vector<TexelOverlap> ov;
         ov.clear();
-        clip_footprint_to_grid(quad, m_polygons[f.id].rim, chart.texels.width,
-                               chart.texels.height, ov);
+        clip_footprint_to_grid(quad, m_polygons[f.id].rim, chart.texels.width, chart.texels.height,
+                               ov);
         double sum = 0.0;
         for (const TexelOverlap& o : ov) sum += o.area;
         if (sum > 0.0) {
@@ -178,20 +226,29 @@ void LightBeams::deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const 
     land(size_t(t), power * (albedo.empty() ? m.diffuse : albedo[size_t(t)]));
 }
 
+LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side, double u,
+                                    double v) const {
+    Traced t;
+    ray(s, g, side, u, v, t.o, t.d);
+    t.cls = classify(m_scene, m_caster, t.o, t.d, g.has_start ? 1e-7 : 0.0, t.hit);
+    return t;
+}
+
 void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const Rgb& power,
-                       int depth, LightShotResult& out) const {
+                       int depth, LightShotResult& out, const Traced* known) const {
     if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
-    // The centre ray, then the corners (counter-clockwise in (u, v)).
+    // The centre ray, then the corners (counter-clockwise in (u, v)); a split beam's
+    // quarters inherit the corners already cast (`known`).
     const double us[5] = {0.5 * (r.u0 + r.u1), r.u0, r.u1, r.u1, r.u0};
     const double vs[5] = {0.5 * (r.v0 + r.v1), r.v0, r.v0, r.v1, r.v1};
-    const double tmin = g.has_start ? 1e-7 : 0.0;
+    Traced tr[5];
+    for (int k = 0; k < 5; ++k)
+        tr[k] = known && k > 0 ? known[k - 1] : cast(s, g, r.side, us[k], vs[k]);
     Vec3 o[5], d[5];
     RayHit hit[5];
     int cls[5];
-    for (int k = 0; k < 5; ++k) {
-        ray(s, g, r.side, us[k], vs[k], o[k], d[k]);
-        cls[k] = classify(m_scene, m_caster, o[k], d[k], tmin, hit[k]);
-    }
+    for (int k = 0; k < 5; ++k)
+        o[k] = tr[k].o, d[k] = tr[k].d, hit[k] = tr[k].hit, cls[k] = tr[k].cls;
     bool split = false;
     for (int k = 1; k < 5; ++k) split |= cls[k] != cls[0];
     Vec3 foot[4];
@@ -203,16 +260,42 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         const double texel = m_scene.charts[size_t(cls[0])].texels.size;
         split |= !foot_ok || width > kFootprintTexels * std::min(texel, m_reach);
     }
+    if (cls[0] == -1 && !split) {
+        // A beam that meets nothing with all its rays may still hold a corner of the scene
+        // poking in between them: it splits until it is as narrow as a leaf where it
+        // crosses the scene (the unit ball).
+        const double across =
+            s.parallel ? r.u1 - r.u0 : (r.u1 - r.u0) * (glm::length(s.position) + 1.0);
+        split = across > kFootprintTexels * m_texel;
+    }
+    if (!split && !s.parallel && s.light->type == LightType::Spot) {
+        // In the falloff the irradiance curves across a footprint (f ~ t^2 near the outer
+        // cone): the beam splits until the falloff is nearly flat over it.
+        double f[5];
+        for (int k = 0; k < 5; ++k)
+            f[k] = s.light->falloff(glm::normalize(cube_direction(r.side, us[k], vs[k])));
+        for (int k = 1; k < 5; ++k)
+            split |= std::abs(f[k] - f[0]) > kFalloffVariation * std::max(f[0], kFalloffFloor);
+    }
     if (split && depth < kMaxDepth) {
         const double um = 0.5 * (r.u0 + r.u1), vm = 0.5 * (r.v0 + r.v1);
         const Rect kids[4] = {{r.side, r.u0, um, r.v0, vm},
                               {r.side, um, r.u1, r.v0, vm},
                               {r.side, r.u0, um, vm, r.v1},
                               {r.side, um, r.u1, vm, r.v1}};
-        double w[4], sum = 0.0;
-        for (int k = 0; k < 4; ++k) sum += (w[k] = weight(s, kids[k]));
+        double w[4];
+        child_weights(s, r, w);
+        const double sum = w[0] + w[1] + w[2] + w[3];
+        // The edges' midpoints: bottom, right, top, left.
+        const Traced b = cast(s, g, r.side, um, r.v0), rt = cast(s, g, r.side, r.u1, vm),
+                     t = cast(s, g, r.side, um, r.v1), l = cast(s, g, r.side, r.u0, vm);
+        const Traced corners[4][4] = {{tr[1], b, tr[0], l},
+                                      {b, tr[2], rt, tr[0]},
+                                      {l, tr[0], t, tr[4]},
+                                      {tr[0], rt, tr[3], t}};
         for (int k = 0; k < 4; ++k)
-            trace(s, kids[k], g, power * (sum > 0.0 ? w[k] / sum : 0.25), depth + 1, out);
+            trace(s, kids[k], g, power * (sum > 0.0 ? w[k] / sum : 0.25), depth + 1, out,
+                  corners[k]);
         return;
     }
     ++out.leaves;
@@ -238,8 +321,7 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
     else  // neither meets a front face: by the rays' votes
         share = double(1 + std::count(cls + 1, cls + 5, cls[0])) / 5.0;
     land(s, r, g, depth, cls[0], hit[0], foot, foot_ok, power * share, out);
-    land(s, r, g, depth, cls[other], hit[other], other_foot, other_ok, power * (1.0 - share),
-         out);
+    land(s, r, g, depth, cls[other], hit[other], other_foot, other_ok, power * (1.0 - share), out);
 }
 
 // The footprint of a beam (its corner rays o[1..4] + t d[1..4]) on the plane of face f;
@@ -278,7 +360,9 @@ double LightBeams::rim_share(int face, const Vec3 foot[4]) const {
         if (e < 64 && (f.inner_edges >> e) & 1u) continue;
         const Vec2 a = frame.to_texel(f.vertices[e]), b = frame.to_texel(f.vertices[(e + 1) % n]);
         // Sutherland-Hodgman against the left of a -> b (the face is counter-clockwise).
-        auto side = [&](const Vec2& p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); };
+        auto side = [&](const Vec2& p) {
+            return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+        };
         next.clear();
         for (size_t k = 0; k < poly.size(); ++k) {
             const Vec2 &p = poly[k], &q = poly[(k + 1) % poly.size()];
@@ -330,8 +414,8 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
 
 void LightBeams::shoot(int64_t k0, int64_t k1, LightShotResult& out) const {
     for (int64_t k = k0; k < k1; ++k) {
-        const size_t si = size_t(std::upper_bound(m_first.begin(), m_first.end(), k) -
-                                 m_first.begin());
+        const size_t si =
+            size_t(std::upper_bound(m_first.begin(), m_first.end(), k) - m_first.begin());
         const Source& s = m_sources[si];
         const int64_t local = k - (si == 0 ? 0 : m_first[si - 1]);
         const int R = s.resolution;
@@ -353,15 +437,7 @@ void LightBeams::shoot(int64_t k0, int64_t k1, LightShotResult& out) const {
         } else if (s.light->type == LightType::Point) {
             power = s.unit_power * cube_solid_angle(r.u0, r.u1, r.v0, r.v1);
         } else {  // spot: its falloff integrated over the beam
-            const int q = kSpotQuadrature;
-            const double hu = (r.u1 - r.u0) / q, hv = (r.v1 - r.v0) / q;
-            double w = 0.0;
-            for (int b = 0; b < q; ++b)
-                for (int a = 0; a < q; ++a) {
-                    const double u = r.u0 + a * hu, v = r.v0 + b * hv;
-                    const Vec3 dir = glm::normalize(cube_direction(r.side, u + 0.5 * hu, v + 0.5 * hv));
-                    w += s.light->falloff(dir) * cube_solid_angle(u, u + hu, v, v + hv);
-                }
+            const double w = spot_weight(*s.light, r);
             if (!(w > 0.0)) continue;
             power = s.unit_power * w;
         }

@@ -78,7 +78,8 @@ class LightBeams {
         bool parallel = false;
         Vec3 position{0.0};   // point, spot
         Vec3 direction{0.0};  // parallel: the way the light travels
-        Vec3 base{0.0}, e1{0.0}, e2{0.0};  // parallel: the root grid's plane, point = base + u e1 + v e2
+        Vec3 base{0.0}, e1{0.0},
+            e2{0.0};          // parallel: the root grid's plane, point = base + u e1 + v e2
         Rgb unit_power{0.0};  // point, spot: intensity x scale^2; parallel: E / subfields
         int resolution = 1;   // root beams per side (of each cube face)
     };
@@ -98,9 +99,18 @@ class LightBeams {
     };
     void ray(const Source& s, const Segment& g, int side, double u, double v, Vec3& o,
              Vec3& d) const;
-    double weight(const Source& s, const Rect& r) const;  // relative power of a beam
+    void child_weights(const Source& s, const Rect& r, double w[4]) const;
+    static double spot_weight(const Light& l, const Rect& r);
+    // A ray of a beam and what it met (cls: the chart of the front face it meets, -1 none,
+    // -2 a back face).
+    struct Traced {
+        Vec3 o{0.0}, d{0.0};
+        RayHit hit;
+        int cls = -1;
+    };
+    Traced cast(const Source& s, const Segment& g, int side, double u, double v) const;
     void trace(const Source& s, const Rect& r, const Segment& g, const Rgb& power, int depth,
-               LightShotResult& out) const;
+               LightShotResult& out, const Traced* known = nullptr) const;
     bool footprint(int face, const Vec3 o[5], const Vec3 d[5], Vec3 foot[4]) const;
     double rim_share(int face, const Vec3 foot[4]) const;
     void land(const Source& s, const Rect& r, const Segment& g, int depth, int cls,
@@ -114,6 +124,7 @@ class LightBeams {
     const TextureMaps& m_tex;
     const std::vector<FaceInTexels>& m_polygons;
     double m_reach;
+    double m_texel = 0.0;  // the scene's texel size, normalised units
     std::vector<Source> m_sources;
     std::vector<int64_t> m_first;  // per source, one past its last root beam (prefix sums)
 };

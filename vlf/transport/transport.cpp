@@ -127,8 +127,7 @@ void Transport::shoot_lights() {
     const RayCaster caster(m_scene);
     // The reach of the faces' rims in texels (transport_setup.cpp): a leaf beam's
     // footprint stays within half of it.
-    const double reach =
-        2.0 * 2.0 / (m_params.field.resolution * m_params.supersample);
+    const double reach = 2.0 * 2.0 / (m_params.field.resolution * m_params.supersample);
     const LightBeams beams(m_scene, caster, m_tex, m_polygons, reach);
     const int64_t K = beams.roots();
     // The lights' deposits are exact at rims and shadow edges: they join P^N after the
