@@ -481,7 +481,9 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
     const bool any_emitter =
         std::any_of(d.objects.begin(), d.objects.end(),
                     [&](const ObjectDesc& o) {
-                        return !o.material_given || d.materials[o.material].is_emitter();
+                        // (an import may emit through its file's lights even when
+                        // "material" overrides its materials)
+                        return o.type == "import" || d.materials[o.material].is_emitter();
                     }) ||
         std::any_of(d.lights.begin(), d.lights.end(), [](const Light& l) { return l.emits(); });
     if (!any_emitter)
