@@ -28,8 +28,13 @@ constexpr double kFalloffFloor = 0.02;
 // A directional light's root grid lies this far behind the scene's centre (outside the
 // unit ball) and spans [-1, 1]^2 across it.
 constexpr double kParallelBase = 2.0;
-// A leaf beam's footprint is at most this many texels (and rim reaches) wide.
-constexpr double kFootprintTexels = 0.25;
+// A leaf beam's footprint is at most this many texels (and rim reaches) wide; a leaf
+// across an edge at most kEdgeTexels.
+constexpr double kFootprintTexels = 0.5;
+constexpr double kEdgeTexels = 1.0 / 32.0;
+// A beam that meets nothing splits until it is this many texels wide across the scene: a
+// face's corner poking in between its rays is then at most a small part of a texel.
+constexpr double kMissTexels = 0.125;
 // Sub-cells per side of the quadrature of a spot's falloff over a root beam.
 constexpr int kSpotQuadrature = 4;
 
@@ -249,16 +254,24 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
     int cls[5];
     for (int k = 0; k < 5; ++k)
         o[k] = tr[k].o, d[k] = tr[k].d, hit[k] = tr[k].hit, cls[k] = tr[k].cls;
-    bool split = false;
-    for (int k = 1; k < 5; ++k) split |= cls[k] != cls[0];
+    bool across = false;  // the beam's rays meet more than one surface (or the void)
+    for (int k = 1; k < 5; ++k) across |= cls[k] != cls[0];
+    // The beam's width where its centre ray ends: its corner rays' spread there.
+    const double t_end = cls[0] == -1 ? 2.0 : hit[0].t;
+    const double spread = std::max(glm::length((o[3] + t_end * d[3]) - (o[1] + t_end * d[1])),
+                                   glm::length((o[4] + t_end * d[4]) - (o[2] + t_end * d[2])));
+    // Across an edge the beam splits until it is a fraction of a texel wide there; below
+    // that the nearer face's rim decides the shares (rim_share).
+    bool split = across && spread > kEdgeTexels * m_texel;
     Vec3 foot[4];
     const bool foot_ok = cls[0] >= 0 && footprint(hit[0].face, o, d, foot);
     if (cls[0] >= 0) {
-        const double width =
-            foot_ok ? std::max(glm::length(foot[2] - foot[0]), glm::length(foot[3] - foot[1]))
-                    : 0.0;
         const double texel = m_scene.charts[size_t(cls[0])].texels.size;
-        split |= !foot_ok || width > kFootprintTexels * std::min(texel, m_reach);
+        if (foot_ok)
+            split |= std::max(glm::length(foot[2] - foot[0]), glm::length(foot[3] - foot[1])) >
+                     kFootprintTexels * std::min(texel, m_reach);
+        else  // a corner ray misses the plane ahead (a grazing or cut beam): as at an edge
+            split |= spread > kEdgeTexels * m_texel;
     }
     if (cls[0] == -1 && !split) {
         // A beam that meets nothing with all its rays may still hold a corner of the scene
@@ -266,7 +279,7 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         // crosses the scene (the unit ball).
         const double across =
             s.parallel ? r.u1 - r.u0 : (r.u1 - r.u0) * (glm::length(s.position) + 1.0);
-        split = across > kFootprintTexels * m_texel;
+        split = across > kMissTexels * m_texel;
     }
     if (!split && !s.parallel && s.light->type == LightType::Spot) {
         // In the falloff the irradiance curves across a footprint (f ~ t^2 near the outer

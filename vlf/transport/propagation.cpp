@@ -148,6 +148,11 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
                               {{"budget_mib", params.cache_budget_mib},
                                {"directions_cached", t.cached_directions()},
                                {"directions", t.directions().size()}}}};
+    if (!scene.lights.empty())  // the lights' first shot (light_beams.hpp)
+        report["light_beams"] = {{"lights", scene.lights.size()},
+                                 {"root_beams", t.light_beams().roots},
+                                 {"leaf_beams", t.light_beams().leaves},
+                                 {"seconds", t.light_beams().seconds}};
     if (surfaces) report["surfaces"] = surface_report(scene, tex);
     return report;
 }

@@ -138,6 +138,7 @@ void Transport::shoot_lights() {
     chunks.resize(kWave);
     std::vector<SpecularSource> none;
     std::vector<Rgb> emitted(kWave);
+    std::vector<int64_t> leaves(kWave);
     // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
     for (int wave = 0; wave < kChunks; wave += kWave) {
         parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
@@ -150,11 +151,15 @@ void Transport::shoot_lights() {
             res.escaped = out.escaped;
             res.lost = out.lost;
             emitted[c - wave] = out.emitted;
+            leaves[c - wave] = out.leaves;
         });
         const int count = std::min(kWave, kChunks - wave);
         reduce_chunks(count, none);
         for (int k = 0; k < count; ++k) m_running.emitted += emitted[k];
+        for (int k = 0; k < count; ++k) m_light_stats.leaves += leaves[k];
     }
+    m_light_stats.roots = K;
+    m_light_stats.seconds = shot.seconds();
     m_light_next = std::move(m_tex.next);
     m_tex.next = std::move(held);
     m_timings.passes += shot.seconds();

@@ -62,6 +62,12 @@ struct SpecularSource;
 
 // Wall-clock seconds of each phase of the propagation (they add up to the transport's
 // wall time), and the CPU seconds, summed over worker threads, inside the passes.
+// The lights' first shot (light_beams.hpp): root and leaf beams traced, wall seconds.
+struct LightBeamStats {
+    int64_t roots = 0, leaves = 0;
+    double seconds = 0.0;
+};
+
 struct TransportTimings {
     double setup = 0;        // directions, rotations, coverage, normalisers, maps, pools
     double passes = 0;       // the true and perturbed passes over all directions
@@ -102,6 +108,7 @@ class Transport {
     const std::vector<Mat3>& rotations() const { return m_rot; }
     const Coverage& coverage() const { return m_coverage; }
     const TransportTimings& timings() const { return m_timings; }
+    const LightBeamStats& light_beams() const { return m_light_stats; }
     int64_t memory_bytes() const;
     int64_t geometry_cache_bytes() const;
     // Directions whose geometry is kept across cycles (within params().cache_budget_mib).
@@ -157,6 +164,7 @@ class Transport {
     std::vector<uint8_t> m_deferred;       // per chart, this cycle
     std::vector<int> m_small_emitters;     // charts that shoot by ray casting
     std::vector<Rgb> m_light_next;         // cycle 1: the lights' share of P^N (shoot_lights)
+    LightBeamStats m_light_stats;          // the lights' beams (shoot_lights)
     std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels
     RimPools m_pools;                      // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;
