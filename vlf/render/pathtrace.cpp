@@ -136,8 +136,8 @@ PathTracer::DeltaSource PathTracer::delta_source(const Light& light, Pcg32& rng)
         const double sn = std::sqrt(std::max(0.0, 1.0 - c * c)), phi = 2.0 * kPi * rng.uniform();
         Vec3 e1, e2;
         orthonormal_basis(light.direction, e1, e2);
-        s.travel = glm::normalize(c * light.direction +
-                                  sn * (std::cos(phi) * e1 + std::sin(phi) * e2));
+        s.travel =
+            glm::normalize(c * light.direction + sn * (std::cos(phi) * e1 + std::sin(phi) * e2));
         s.irradiance *= 2.0 / (1.0 + cos_half);
     }
     return s;
@@ -156,7 +156,7 @@ PathTracer::DeltaSource PathTracer::delta_source(const Light& light, Pcg32& rng)
 Rgb PathTracer::delta_path(const DeltaSource& s, const Vec3& x, const Vec3& n, const int* chain,
                            int k) const {
     // Unfold: the image of the source, last mirror first.
-    Vec3 w;  // from x towards the image, unit
+    Vec3 w;                                                 // from x towards the image, unit
     double left = std::numeric_limits<double>::infinity();  // distance to the image
     if (s.parallel) {
         Vec3 t = s.travel;
@@ -194,8 +194,7 @@ Rgb PathTracer::delta_path(const DeltaSource& s, const Vec3& x, const Vec3& n, c
         w += 2.0 * toward * f.normal;  // reflected
     }
     if (s.parallel) {  // a shadow ray to infinity: escaping = lit
-        if (m_caster.occluded(o, w, 0.0, std::numeric_limits<double>::infinity()))
-            return Rgb(0.0);
+        if (m_caster.occluded(o, w, 0.0, std::numeric_limits<double>::infinity())) return Rgb(0.0);
         return weight * s.irradiance * cos_x;
     }
     if (!segment_clear(o, s.position)) return Rgb(0.0);
@@ -269,7 +268,9 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
         const Material& m = m_scene.material_of(f);
         if (m.is_emitter()) {
             double w = 1.0;
-            if (bsdf_pdf > 0.0 && m_light_area > 0.0) {  // MIS against next-event estimation from the previous vertex
+            // MIS against next-event estimation from the previous vertex (which had none
+            // when no face emits: a scene lit by its delta lights alone).
+            if (bsdf_pdf > 0.0 && m_light_area > 0.0) {
                 const double d2 = hit.t * hit.t * glm::dot(dir, dir);
                 const double p_light = d2 / (cos_hit * m_light_area);
                 w = bsdf_pdf * bsdf_pdf / (bsdf_pdf * bsdf_pdf + p_light * p_light);

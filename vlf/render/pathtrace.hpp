@@ -106,9 +106,9 @@ class PathTracer {
     struct DeltaSource {
         const Light* light = nullptr;
         bool parallel = false;
-        Vec3 position{0.0};        // point, spot: normalised coordinates
-        Vec3 travel{0, -1, 0};     // directional: the way this sample's light travels, unit
-        Rgb irradiance{0.0};       // directional: W per square unit on a plane facing `travel`
+        Vec3 position{0.0};     // point, spot: normalised coordinates
+        Vec3 travel{0, -1, 0};  // directional: the way this sample's light travels, unit
+        Rgb irradiance{0.0};    // directional: W per square unit on a plane facing `travel`
     };
     DeltaSource delta_source(const Light& light, Pcg32& rng) const;
     // The irradiance at x (normal n) brought by `source` along the path that reflects in
