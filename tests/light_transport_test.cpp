@@ -281,5 +281,32 @@ TEST(LightTransport, SpotLightFalloffPerTexel) {
     EXPECT_NEAR(t->ledger().back().emitted.x, 3.0, 3.0 * 1e-3);
 }
 
+// A directional light with a wide disc (30 degrees) straight down on the floor: E is the
+// irradiance on a plane facing the disc's centre, so every texel away from the rims (where
+// the disc's slanted beams overhang) gets E within 1 %, as the path tracer's sun does.
+TEST(LightTransport, SunDiscIrradianceOnAFacingPlane) {
+    const Scene scene = load_scene_from_string(
+        R"({"materials": {"floor": {"diffuse": [0.5, 0.5, 0.5]}},
+            "settings": {"texel_size": 0.2},
+            "objects": [{"type": "polygon", "material": "floor",
+                         "vertices": [[-2, 0, -2], [-2, 0, 2], [2, 0, 2], [2, 0, -2]]}],
+            "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [5, 5, 5],
+                        "angular_diameter_deg": 30}]})",
+        "sun.json", "");
+    const auto t = run(scene, params(33, 32, 8, 1));
+    const Chart& c = floor_chart(scene);
+    double worst = 0.0;
+    for (size_t k = 0; k < size_t(c.texels.count()); ++k) {
+        if (c.texel_area[k] <= 0.0) continue;
+        const TexelRect r = texel_rect(scene, c, k);
+        if (std::max(std::abs(r.x0), std::abs(r.x1)) > 1.9 ||
+            std::max(std::abs(r.z0), std::abs(r.z1)) > 1.9)
+            continue;
+        worst = std::max(worst, std::abs(texel_irradiance(*t, c, k) / 5.0 - 1.0));
+    }
+    EXPECT_LT(worst, 0.01);
+    EXPECT_LE(t->ledger().back().relative_error(), 1e-9);
+}
+
 }  // namespace
 }  // namespace vlf

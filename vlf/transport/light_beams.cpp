@@ -103,6 +103,11 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
             Vec3 a, b;
             orthonormal_basis(l.direction, a, b);
             const double half = 0.5 * l.angular_diameter_deg * kPi / 180.0;
+            // E is the irradiance on a plane facing the disc's centre: the subfields share
+            // it by their cosines to that plane's normal.
+            double cos_sum = 0.0;
+            for (int k = 0; k < K; ++k)
+                cos_sum += std::cos(K == 1 ? 0.0 : half * std::sqrt((k + 0.5) / K));
             for (int k = 0; k < K; ++k) {
                 Source s;
                 s.light = &l;
@@ -113,7 +118,7 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
                                              std::tan(r) * (std::cos(phi) * a + std::sin(phi) * b));
                 orthonormal_basis(s.direction, s.e1, s.e2);
                 s.base = -kParallelBase * s.direction;
-                s.unit_power = l.irradiance / double(K);  // E x normalised area
+                s.unit_power = l.irradiance / cos_sum;  // E x normalised area
                 s.resolution = std::max(kParallelRoots, per_texel);
                 total += int64_t(s.resolution) * s.resolution;
                 m_sources.push_back(s);
