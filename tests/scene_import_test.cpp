@@ -1,6 +1,8 @@
 // scene_import_test.cpp — whole scenes from model files (vlf/scene/scene_import.hpp and the
 // loader's "import" objects): material mapping of OBJ/MTL and glTF, node transforms, cameras,
-// overrides, and the repairs and errors of bad files.
+// overrides, the repairs and errors of bad files, and faces turned to one winding.
+#include "vlf/scene/scene_import.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,6 +17,7 @@
 #include "vlf/scene/light.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene_loader.hpp"
+#include "vlf/scene/winding.hpp"
 
 namespace vlf {
 namespace {
@@ -527,6 +530,185 @@ TEST(SceneImport, MeshFilesThatReadersWouldPadOrEmptyAreNamed) {
               "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     expect_load_error(dir.write("c.json", json_head + R"(strip.ply"}]})"),
                       "PLY triangle strips ('element tristrips') are not read");
+}
+
+// ---- winding: faces turned to agree, closed parts to face outward (winding.hpp) ----------
+
+const std::string kWinding = std::string(VLF_SOURCE_DIR) + "/tests/scenes";
+
+// The notes about turned faces (the loader's, for the file's material 'glow').
+std::vector<std::string> winding_notes(const Scene& s) {
+    std::vector<std::string> out;
+    for (const std::string& n : s.load_notes)
+        if (n.find("turned") != std::string::npos || n.find("one way") != std::string::npos)
+            out.push_back(n);
+    return out;
+}
+
+// Every face's normal points away from the centre of the unit cube [1,2] x [2,3] x [3,4].
+void expect_outward(const Scene& s) {
+    const Vec3 centre = s.normalisation.to_normalised({1.5, 2.5, 3.5});
+    ASSERT_EQ(s.faces.size(), 12u);
+    for (const Face& f : s.faces)
+        EXPECT_GT(glm::dot(f.normal, polygon_centroid(f.vertices) - centre), 0) << "face " << f.id;
+}
+
+TEST(SceneImportWinding, ClosedCubeWithSomeFacesReversedFacesOutward) {
+    const Scene s = load_scene(kWinding + "/winding-mixed-cube.obj");
+    const std::string file = "winding-mixed-cube.obj";  // the note names it as the scene does
+    expect_outward(s);
+    const auto notes = winding_notes(s);
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_EQ(notes[0],
+              file + ": material 'glow': 4 of 12 face(s) turned to agree with their neighbours");
+}
+
+TEST(SceneImportWinding, InwardClosedCubeIsTurnedOutward) {
+    const Scene s = load_scene(kWinding + "/winding-inward-cube.obj");
+    const std::string file = "winding-inward-cube.obj";  // the note names it as the scene does
+    expect_outward(s);
+    const auto notes = winding_notes(s);
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_EQ(notes[0], file +
+                            ": material 'glow': 1 closed part(s) turned to face outward (12 of 12 "
+                            "face(s) turned)");
+}
+
+TEST(SceneImportWinding, OpenGridAgreesWithItsMajority) {
+    // The first triangle (the walk's seed) is the reversed one: the area decides, not the seed.
+    const Scene s = load_scene(kWinding + "/winding-grid.obj");
+    const std::string file = "winding-grid.obj";  // the note names it as the scene does
+    ASSERT_EQ(s.faces.size(), 8u);
+    for (const Face& f : s.faces) EXPECT_GT(f.normal.y, 0.999) << "face " << f.id;
+    const auto notes = winding_notes(s);
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_EQ(notes[0],
+              file + ": material 'glow': 1 of 8 face(s) turned to agree with their neighbours");
+}
+
+TEST(SceneImportWinding, ConsistentCubeIsUnchangedAndUnnoted) {
+    const std::string file = kWinding + "/winding-cube.obj";
+    // The file's triangles, corner by corner (its vertex numbers, 1-based).
+    const int tris[12][3] = {{1, 4, 3}, {1, 3, 2}, {5, 6, 7}, {5, 7, 8}, {1, 2, 6}, {1, 6, 5},
+                             {4, 8, 7}, {4, 7, 3}, {1, 5, 8}, {1, 8, 4}, {2, 3, 7}, {2, 7, 6}};
+    const Vec3 v[8] = {{1, 2, 3}, {2, 2, 3}, {2, 3, 3}, {1, 3, 3},
+                       {1, 2, 4}, {2, 2, 4}, {2, 3, 4}, {1, 3, 4}};
+    const ImportedScene imported = import_scene_file(file);
+    ASSERT_EQ(imported.groups.size(), 1u);
+    const ImportedMesh& mesh = imported.groups[0].mesh;
+    ASSERT_EQ(mesh.faces.size(), 12u);
+    for (size_t f = 0; f < 12; ++f) {
+        ASSERT_EQ(mesh.faces[f].size(), 3u);
+        for (size_t k = 0; k < 3; ++k)
+            EXPECT_EQ(mesh.vertices[size_t(mesh.faces[f][k])], v[tris[f][k] - 1])
+                << "face " << f << " corner " << k;
+    }
+    EXPECT_TRUE(imported.notes.empty());
+    const Scene s = load_scene(file);
+    expect_outward(s);
+    EXPECT_TRUE(winding_notes(s).empty());
+}
+
+// The unit cube as an ImportedMesh of 6 quads, outward or inward, its quads split apart
+// (their own vertices: parts are found by welding positions).
+ImportedMesh quad_cube(bool inward) {
+    const Vec3 corner[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                            {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                             {3, 7, 6, 2}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+    ImportedMesh m;
+    for (const auto& q : quads) {
+        std::vector<int> face;
+        for (int c : q) {
+            face.push_back(int(m.vertices.size()));
+            m.vertices.push_back(corner[c]);
+        }
+        if (inward) std::reverse(face.begin(), face.end());
+        m.faces.push_back(face);
+    }
+    return m;
+}
+
+double signed_volume(const ImportedMesh& m) {
+    double v = 0.0;
+    for (const auto& f : m.faces)
+        for (size_t k = 1; k + 1 < f.size(); ++k)
+            v += glm::dot(m.vertices[size_t(f[0])],
+                          glm::cross(m.vertices[size_t(f[k])], m.vertices[size_t(f[k + 1])])) /
+                 6.0;
+    return v;
+}
+
+TEST(SceneImportWinding, ClosedPartAroundAViewpointFacesInward) {
+    // A room seen from inside (a camera or light of the file in it) keeps facing inward.
+    ImportedMesh room = quad_cube(true);
+    const auto before = room.faces;
+    std::vector<ImportedMesh*> meshes = {&room};
+    auto c = orient_faces(meshes, {Vec3(0.5, 0.5, 0.5)});
+    EXPECT_EQ(room.faces, before);
+    EXPECT_FALSE(c[0].changed());
+    // Wound outward around the viewpoint: turned inward, counted as a whole part.
+    ImportedMesh box = quad_cube(false);
+    meshes = {&box};
+    c = orient_faces(meshes, {Vec3(0.5, 0.5, 0.5), Vec3(5, 5, 5)});
+    EXPECT_NEAR(signed_volume(box), -1.0, 1e-12);
+    EXPECT_EQ(c[0].inward_parts, 1u);
+    EXPECT_EQ(c[0].inward_faces, 6u);
+    EXPECT_EQ(c[0].agreed, 0u);
+    // A viewpoint outside changes nothing: outward stays outward.
+    box = quad_cube(false);
+    c = orient_faces(meshes, {Vec3(5, 0.5, 0.5)});
+    EXPECT_NEAR(signed_volume(box), 1.0, 1e-12);
+    EXPECT_FALSE(c[0].changed());
+}
+
+TEST(SceneImportWinding, PartsSpanMeshesAndPerVertexUvsFollow) {
+    // The inward cube split over two meshes (materials): one closed part, turned in both.
+    ImportedMesh a = quad_cube(true), b;
+    for (size_t f = 3; f < 6; ++f) {
+        std::vector<int> face;
+        for (int v : a.faces[f]) {
+            face.push_back(int(b.vertices.size()));
+            b.vertices.push_back(a.vertices[size_t(v)]);
+        }
+        b.faces.push_back(face);
+    }
+    a.faces.resize(3);
+    a.uvs.resize(a.vertices.size());
+    for (size_t v = 0; v < a.uvs.size(); ++v) a.uvs[v] = Vec2(double(v), 0.0);
+    const auto uvs = a.uvs;
+    std::vector<ImportedMesh*> meshes = {&a, &b};
+    const auto c = orient_faces(meshes, {});
+    EXPECT_NEAR(signed_volume(a) + signed_volume(b), 1.0, 1e-12);
+    for (const auto* m : {&c[0], &c[1]}) {
+        EXPECT_EQ(m->outward_parts, 1u);
+        EXPECT_EQ(m->outward_faces, 3u);
+    }
+    // Texture coordinates are per vertex: a turned face's corners keep theirs.
+    EXPECT_EQ(a.uvs, uvs);
+    EXPECT_EQ(a.faces[0], (std::vector<int>{0, 1, 2, 3}));  // quad_cube(false)'s first face
+}
+
+TEST(SceneImportWinding, MoebiusStripKeepsOneAssignmentAndIsNoted) {
+    // 8 quads around a circle of radius 2, the strip's width turning by half a turn: no
+    // winding agrees throughout; one edge is left with disagreeing faces.
+    const int n = 8;
+    ImportedMesh m;
+    for (int k = 0; k < n; ++k) {
+        const double t = 2.0 * kPi * k / n;
+        const Vec3 centre(2.0 * std::cos(t), 2.0 * std::sin(t), 0.0);
+        const Vec3 width = 0.5 * (std::cos(t / 2) * Vec3(std::cos(t), std::sin(t), 0.0) +
+                                  std::sin(t / 2) * Vec3(0, 0, 1));
+        m.vertices.push_back(centre + width);  // 2k: top
+        m.vertices.push_back(centre - width);  // 2k + 1: bottom
+    }
+    for (int k = 0; k + 1 < n; ++k) m.faces.push_back({2 * k, 2 * k + 1, 2 * k + 3, 2 * k + 2});
+    m.faces.push_back({2 * (n - 1), 2 * (n - 1) + 1, 0, 1});  // top meets bottom: the twist
+    std::vector<ImportedMesh*> meshes = {&m};
+    const auto c = orient_faces(meshes, {});
+    EXPECT_EQ(c[0].non_orientable, 1u);
+    EXPECT_EQ(c[0].disagreeing_edges, 1u);
+    EXPECT_TRUE(c[0].changed());
 }
 
 }  // namespace

@@ -16,6 +16,8 @@
 // A diffuse colour texture (map_Kd, the base-colour texture) is kept (ImportedGroup::texture);
 // the material's diffuse is the colour x the texture's mean linear colour (sRGB decoded).
 // Where diffuse + specular exceeds 1 in a channel both are scaled down to sum to 1.
+// Winding (orient, winding.hpp): faces of one-sided materials are turned to agree with their
+// neighbours, closed parts to face outward (inward around the file's camera or light).
 #include "vlf/scene/scene_import.hpp"
 
 #include <assimp/GltfMaterial.h>
@@ -40,6 +42,7 @@
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/files.hpp"
+#include "vlf/scene/winding.hpp"
 
 namespace vlf {
 
@@ -522,6 +525,49 @@ std::vector<Light> lights_of(const aiScene& scene, const std::string& path, bool
     return out;
 }
 
+// Turns faces so that each part of the file faces one way (winding.hpp) and notes what was
+// turned, per material. Double-sided materials are left as the file has them and do not join
+// parts: the loader adds each of their faces reversed, so their winding cannot show. The
+// viewpoints are the file's cameras and point and spot lights (a closed part around one is a
+// room seen from inside).
+void orient(std::vector<ImportedGroup>& groups, const std::vector<Camera>& cameras,
+            const std::vector<Light>& lights, std::vector<std::string>& notes) {
+    std::vector<ImportedMesh*> meshes;
+    std::vector<const ImportedGroup*> owners;
+    for (ImportedGroup& g : groups)
+        if (!g.two_sided) meshes.push_back(&g.mesh), owners.push_back(&g);
+    std::vector<Vec3> viewpoints;
+    for (const Camera& c : cameras) viewpoints.push_back(c.eye);
+    for (const Light& l : lights)
+        if (l.type != LightType::Directional) viewpoints.push_back(l.position);
+    const std::vector<WindingChanges> changes = orient_faces(meshes, viewpoints);
+    for (size_t k = 0; k < changes.size(); ++k) {
+        const WindingChanges& c = changes[k];
+        if (!c.changed()) continue;
+        std::vector<std::string> what;
+        if (c.agreed)
+            what.push_back(fmt::format("{} of {} face(s) turned to agree with their neighbours",
+                                       c.agreed, c.faces));
+        if (c.outward_parts)
+            what.push_back(
+                fmt::format("{} closed part(s) turned to face outward ({} of {} face(s) turned)",
+                            c.outward_parts, c.outward_faces, c.faces));
+        if (c.inward_parts)
+            what.push_back(fmt::format(
+                "{} closed part(s) around the file's camera or light turned to face inward ({} "
+                "of {} face(s) turned)",
+                c.inward_parts, c.inward_faces, c.faces));
+        if (c.non_orientable)
+            what.push_back(fmt::format(
+                "{} part(s) cannot face one way throughout (one-sided, like a Moebius strip): "
+                "the faces of {} edge(s) still disagree",
+                c.non_orientable, c.disagreeing_edges));
+        std::string text;
+        for (const std::string& w : what) text += (text.empty() ? "" : "; ") + w;
+        notes.push_back(fmt::format("material '{}': {}", owners[k]->material_name, text));
+    }
+}
+
 }  // namespace
 
 bool is_importable_scene_file(const std::string& path) {
@@ -586,6 +632,7 @@ ImportedScene import_scene_file(const std::string& path) {
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
     out.cameras = cameras_of(*scene, gltf ? &extras : nullptr, out.left_out);
     out.lights = lights_of(*scene, path, gltf, out.left_out, out.notes);
+    orient(out.groups, out.cameras, out.lights, out.notes);
     return out;
 }
 

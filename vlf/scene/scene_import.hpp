@@ -29,7 +29,9 @@ struct ImportedGroup {
     Texture texture;
     // What the mapping could not represent, one phrase each ("a Phong highlight Ks = ...").
     std::vector<std::string> unrepresented;
-    ImportedMesh mesh;  // file units, node transforms applied; faces as in the file
+    // File units, node transforms applied; faces as in the file, except that faces of
+    // one-sided materials are turned to face one way per part (winding.hpp; noted).
+    ImportedMesh mesh;
 };
 
 struct ImportedScene {
@@ -44,16 +46,19 @@ struct ImportedScene {
     // "light 'Sky' (ambient): ...").
     std::vector<std::string> left_out;
     // Things taken differently from the file, one phrase each ("light 'Lamp' (point):
-    // attenuation ... replaced by the inverse square law").
+    // attenuation ... replaced by the inverse square law", "material 'Body': 12 of 480
+    // face(s) turned to agree with their neighbours").
     std::vector<std::string> notes;
 };
 
 // True when assimp has a reader for the file's extension.
 bool is_importable_scene_file(const std::string& path);
 
-// Reads a scene file. Throws vlf::Error naming the file and the place: missing or
-// unreadable file, unsupported format, assimp's parse error, a non-finite or out-of-range
-// vertex (an OBJ's by line number), a file without faces.
+// Reads a scene file. Faces whose winding disagrees with their neighbours', and closed parts
+// that face inward (unless around the file's camera or light), are turned (winding.hpp);
+// double-sided materials keep the file's winding. Throws vlf::Error naming the file and the place:
+// missing or unreadable file, unsupported format, assimp's parse error, a non-finite or
+// out-of-range vertex (an OBJ's by line number), a file without faces.
 ImportedScene import_scene_file(const std::string& path);
 
 }  // namespace vlf
