@@ -158,6 +158,24 @@ TEST(SceneImport, CornellBoxObjMaterialsAndRepairs) {
     }
 }
 
+// An FBX (ASCII 7.4, written for this test): materials by their Lambert colours, the
+// emissive colour as a lamp, node translations applied, faces facing as wound.
+TEST(SceneImport, FbxMaterialsAndNodes) {
+    const Scene s = load_scene(test::source_path("tests/scenes/fbx-room.fbx"));
+    expect_rgb(material_named(s, "fbx-room/grey").diffuse, {0.5, 0.4, 0.3});
+    expect_rgb(material_named(s, "fbx-room/glow").emission, {4, 4, 4});
+    EXPECT_EQ(s.faces.size(), 4u);
+    const SceneObject& lamp = object_named(s, "fbx-room/glow");
+    for (int k = 0; k < lamp.face_count; ++k) {
+        const Face& f = s.faces[size_t(lamp.first_face + k)];
+        EXPECT_NEAR(s.normalisation.to_user(f.vertices[0]).y, 1.5, 1e-9);  // 1 + the node's 0.5
+        EXPECT_NEAR(f.normal.y, -1.0, 1e-12);                              // facing the floor
+    }
+    const SceneObject& floor = object_named(s, "fbx-room/grey");
+    for (int k = 0; k < floor.face_count; ++k)
+        EXPECT_NEAR(s.faces[size_t(floor.first_face + k)].normal.y, 1.0, 1e-12);
+}
+
 TEST(SceneImport, MtlIllumFiveIsAMirrorAndGlassIsNoted) {
     const Scene s = load_scene(kModels + "/cornell-box/CornellBox-Sphere.obj");
     const Material& chrome = material_named(s, "CornellBox-Sphere/leftSphere");
