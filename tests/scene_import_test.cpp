@@ -592,6 +592,19 @@ TEST(SceneImportWinding, InwardClosedCubeIsTurnedOutward) {
                             "face(s) turned)");
 }
 
+// The same file placed in a JSON scene whose camera looks from inside it (moved and scaled
+// with the import object): a room seen from inside, it keeps facing inward.
+TEST(SceneImportWinding, SceneCameraInsideKeepsARoomInward) {
+    const Scene s = load_scene_from_string(
+        R"({"materials": {}, "objects": [{"type": "import", "name": "room",
+              "file": "winding-inward-cube.obj", "scale": 2, "translate": [10, 0, 0]}],
+            "cameras": [{"eye": [13, 5, 7], "look_at": [13, 5, 8], "fov_y_deg": 40}]})",
+        "room.json", kWinding);
+    const Vec3 centre = s.normalisation.to_normalised({13.0, 5.0, 7.0});
+    for (const Face& f : s.faces) EXPECT_GT(glm::dot(f.normal, centre - f.vertices[0]), 0);
+    EXPECT_TRUE(winding_notes(s).empty());
+}
+
 TEST(SceneImportWinding, OpenGridAgreesWithItsMajority) {
     // The first triangle (the walk's seed) is the reversed one: the area decides, not the seed.
     const Scene s = load_scene(kWinding + "/winding-grid.obj");

@@ -528,15 +528,16 @@ std::vector<Light> lights_of(const aiScene& scene, const std::string& path, bool
 // Turns faces so that each part of the file faces one way (winding.hpp) and notes what was
 // turned, per material. Double-sided materials are left as the file has them and do not join
 // parts: the loader adds each of their faces reversed, so their winding cannot show. The
-// viewpoints are the file's cameras and point and spot lights (a closed part around one is a
-// room seen from inside).
+// viewpoints are the file's cameras and point and spot lights and the `extra` ones of the
+// scene around it (a closed part around one is a room seen from inside).
 void orient(std::vector<ImportedGroup>& groups, const std::vector<Camera>& cameras,
-            const std::vector<Light>& lights, std::vector<std::string>& notes) {
+            const std::vector<Light>& lights, const std::vector<Vec3>& extra,
+            std::vector<std::string>& notes) {
     std::vector<ImportedMesh*> meshes;
     std::vector<const ImportedGroup*> owners;
     for (ImportedGroup& g : groups)
         if (!g.two_sided) meshes.push_back(&g.mesh), owners.push_back(&g);
-    std::vector<Vec3> viewpoints;
+    std::vector<Vec3> viewpoints = extra;
     for (const Camera& c : cameras) viewpoints.push_back(c.eye);
     for (const Light& l : lights)
         if (l.type != LightType::Directional) viewpoints.push_back(l.position);
@@ -577,7 +578,7 @@ bool is_importable_scene_file(const std::string& path) {
     return importer.IsExtensionSupported(ext);
 }
 
-ImportedScene import_scene_file(const std::string& path) {
+ImportedScene import_scene_file(const std::string& path, const std::vector<Vec3>& viewpoints) {
     check_input_file(path, "scene file");
     if (!is_importable_scene_file(path))
         throw Error(fmt::format("'{}': no importer reads '{}' files", path, lower_extension(path)));
@@ -632,7 +633,7 @@ ImportedScene import_scene_file(const std::string& path) {
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
     out.cameras = cameras_of(*scene, gltf ? &extras : nullptr, out.left_out);
     out.lights = lights_of(*scene, path, gltf, out.left_out, out.notes);
-    orient(out.groups, out.cameras, out.lights, out.notes);
+    orient(out.groups, out.cameras, out.lights, viewpoints, out.notes);
     return out;
 }
 

@@ -59,6 +59,8 @@ bool is_importable_scene_file(const std::string& path);
 // double-sided materials keep the file's winding. Throws vlf::Error naming the file and the place:
 // missing or unreadable file, unsupported format, assimp's parse error, a non-finite or
 // out-of-range vertex (an OBJ's by line number), a file without faces.
-ImportedScene import_scene_file(const std::string& path);
+// `viewpoints` (the file's frame): where the scene around the file has cameras or lights,
+// besides the file's own; a closed part around one faces inward (winding.hpp).
+ImportedScene import_scene_file(const std::string& path, const std::vector<Vec3>& viewpoints = {});
 
 }  // namespace vlf

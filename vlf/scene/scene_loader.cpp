@@ -531,6 +531,9 @@ struct Transform {
         if (linear_identity) return p + translate;
         return rotation * ((p - pivot) * scale) + pivot + translate;
     }
+    Vec3 inverse(const Vec3& q) const {
+        return glm::transpose(rotation) * (q - pivot - translate) / scale + pivot;
+    }
 };
 
 // ================================ stage 3: load =========================================
@@ -627,7 +630,16 @@ std::vector<ImportedMesh> load_resources(SceneDescription& d, const std::string&
         o.source_object = static_cast<int>(i);
         try {
             if (o.type == "import") {
-                expand_import(d, o, import_scene_file(o.file_path), objects, meshes);
+                // The scene's own cameras and point and spot lights, in the file's frame:
+                // a closed part of the file around one is a room seen from inside
+                // (winding.hpp).
+                const Transform xf(o, Vec3(0.0));
+                std::vector<Vec3> viewpoints;
+                for (const Camera& c : d.cameras) viewpoints.push_back(xf.inverse(c.eye));
+                for (const Light& l : d.lights)
+                    if (l.type != LightType::Directional)
+                        viewpoints.push_back(xf.inverse(l.position));
+                expand_import(d, o, import_scene_file(o.file_path, viewpoints), objects, meshes);
                 continue;
             }
             meshes.push_back(o.type == "mesh" ? import_mesh(o.file_path) : ImportedMesh{});
