@@ -13,11 +13,13 @@ NumericalLoss& NumericalLoss::operator+=(const NumericalLoss& o) {
     grazing_mirror += o.grazing_mirror;
     subpixel_mirror += o.subpixel_mirror;
     rounding += o.rounding;
+    cut_beam += o.cut_beam;
     return *this;
 }
 
 NumericalLoss NumericalLoss::operator*(double s) const {
-    return {sealed * s, empty_footprint * s, grazing_mirror * s, subpixel_mirror * s, rounding * s};
+    return {sealed * s,          empty_footprint * s, grazing_mirror * s,
+            subpixel_mirror * s, rounding * s,        cut_beam * s};
 }
 
 double LedgerEntry::relative_error() const {
@@ -38,7 +40,8 @@ nlohmann::json to_json(const LedgerEntry& e) {
                                  {"empty_footprint", v(e.lost.empty_footprint)},
                                  {"grazing_mirror", v(e.lost.grazing_mirror)},
                                  {"subpixel_mirror", v(e.lost.subpixel_mirror)},
-                                 {"rounding", v(e.lost.rounding)}};
+                                 {"rounding", v(e.lost.rounding)},
+                                 {"cut_beam", v(e.lost.cut_beam)}};
     return {{"cycle", e.cycle},
             {"emitted", v(e.emitted)},
             {"absorbed", v(e.absorbed)},

@@ -23,8 +23,10 @@ struct NumericalLoss {
                                // grid (super-sampling) to leave by
     Rgb rounding{0.0};         // reflected power that single-precision radiance maps
                                // did not keep (deposited minus stored; either sign)
+    Rgb cut_beam{0.0};         // a light's beam reflected from beyond its mirror's rim (a beam
+                               // across the rim, finer than an edge is resolved; light_beams.hpp)
     Rgb total() const {
-        return sealed + empty_footprint + grazing_mirror + subpixel_mirror + rounding;
+        return sealed + empty_footprint + grazing_mirror + subpixel_mirror + rounding + cut_beam;
     }
     NumericalLoss& operator+=(const NumericalLoss& o);
     NumericalLoss operator*(double s) const;

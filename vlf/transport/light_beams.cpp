@@ -62,6 +62,17 @@ int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const V
     return f.chart;
 }
 
+// Whether point p of f's plane lies on the face (its convex polygon, a hair's tolerance).
+bool on_face(const Face& f, const Vec3& p) {
+    const size_t n = f.vertices.size();
+    for (size_t k = 0; k < n; ++k) {
+        const Vec3& a = f.vertices[k];
+        const Vec3 e = f.vertices[(k + 1) % n] - a;
+        if (glm::dot(glm::cross(e, p - a), f.normal) < -1e-12 * glm::dot(e, e)) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 // A spot's falloff integrated over a beam's solid angle: a q x q midpoint rule, each
@@ -240,7 +251,24 @@ LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side,
                                     double v) const {
     Traced t;
     ray(s, g, side, u, v, t.o, t.d);
+    if (g.mirror >= 0 && !on_face(m_scene.faces[size_t(g.mirror)], t.o)) {
+        t.cls = -3;  // reflected from beyond the mirror's rim: no mirror was there
+        return t;
+    }
     t.cls = classify(m_scene, m_caster, t.o, t.d, g.has_start ? 1e-7 : 0.0, t.hit);
+    if (t.cls == -1 && g.has_start) {
+        // Reflected where the mirror touches another surface (a mirror box on the floor):
+        // the surface may lie within the skipped 1e-7 of the ray's start; look again from
+        // just behind it.
+        constexpr double kBack = 1e-6;
+        RayHit near;
+        const int c = classify(m_scene, m_caster, t.o - kBack * t.d, t.d, 0.0, near);
+        if (c != -1 && near.t <= 2.0 * kBack && near.face != g.mirror) {
+            near.t -= kBack;
+            t.cls = c;
+            t.hit = near;
+        }
+    }
     return t;
 }
 
@@ -262,7 +290,7 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
     bool across = false;  // the beam's rays meet more than one surface (or the void)
     for (int k = 1; k < 5; ++k) across |= cls[k] != cls[0];
     // The beam's width where its centre ray ends: its corner rays' spread there.
-    const double t_end = cls[0] == -1 ? 2.0 : hit[0].t;
+    const double t_end = cls[0] >= 0 || cls[0] == -2 ? hit[0].t : 2.0;
     const double spread = std::max(glm::length((o[3] + t_end * d[3]) - (o[1] + t_end * d[1])),
                                    glm::length((o[4] + t_end * d[4]) - (o[2] + t_end * d[2])));
     // Across an edge the beam splits until it is a fraction of a texel wide there; below
@@ -317,7 +345,11 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         return;
     }
     ++out.leaves;
-    int other = 0;  // a corner that meets something else than the centre, if any
+    // A corner that meets something else than the centre, if any: a face's front before
+    // the void (a corner ray slipping through the seam between two faces is not a hole).
+    int other = 0;
+    for (int k = 1; k < 5 && other == 0; ++k)
+        if (cls[k] != cls[0] && cls[k] >= 0) other = k;
     for (int k = 1; k < 5 && other == 0; ++k)
         if (cls[k] != cls[0]) other = k;
     if (other == 0) {
@@ -408,6 +440,10 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
         out.absorbed_back += power;  // a one-sided face's black back
         return;
     }
+    if (cls == -3) {
+        out.lost.cut_beam += power;
+        return;
+    }
     const Face& f = m_scene.faces[size_t(hit.face)];
     const Material& m = m_scene.material_of(f);
     Rgb reflected(0.0);
@@ -427,6 +463,7 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
     next.n = f.normal;
     next.c = f.plane_offset;
     next.bounce = g.bounce + 1;
+    next.mirror = f.id;
     trace(s, r, next, power * m.specular, depth, out);
 }
 

@@ -91,6 +91,7 @@ class LightBeams {
         bool has_start = false;
         Vec3 n{0.0};
         double c = 0.0;
+        int mirror = -1;  // the face it was last reflected in
         int bounce = 0;
     };
     struct Rect {
@@ -102,7 +103,7 @@ class LightBeams {
     void child_weights(const Source& s, const Rect& r, double w[4]) const;
     static double spot_weight(const Light& l, const Rect& r);
     // A ray of a beam and what it met (cls: the chart of the front face it meets, -1 none,
-    // -2 a back face).
+    // -2 a back face, -3 it leaves its mirror's plane beyond the mirror's rim).
     struct Traced {
         Vec3 o{0.0}, d{0.0};
         RayHit hit;
