@@ -18,16 +18,8 @@ namespace vlf {
 namespace {
 
 using test::params;
-
-std::unique_ptr<Transport> run(const Scene& scene, const PropagateParams& p) {
-    auto t = std::make_unique<Transport>(scene, p);
-    for (int c = 1; c <= p.cycles; ++c) t->run_cycle(c == p.cycles);
-    return t;
-}
-
-Scene from_json(const std::string& text) {
-    return load_scene_from_string(text, "test.json", test::source_path("scenes"));
-}
+using test::run_transport;
+using test::scene_from_json;
 
 // A 4 x 4 floor at y = 0 (rho_d 0.5, facing up), texels of 0.05, and `more` (objects,
 // then lights).
@@ -71,9 +63,9 @@ const Chart& floor_chart(const Scene& scene) {
 TEST(LightTransport, PointLightIrradiancePerTexel) {
     const Vec3 light(0.3, 0.7, -0.2);
     const double I = 2.0;
-    const Scene scene = from_json(floor_scene(
+    const Scene scene = scene_from_json(floor_scene(
         "", R"({"type": "point", "position": [0.3, 0.7, -0.2], "intensity": [2, 2, 2]})"));
-    const auto t = run(scene, params(33, 64, 8, 1));
+    const auto t = run_transport(scene, params(33, 64, 8, 1));
     const Chart& c = floor_chart(scene);
     double worst = 0.0;
     int checked = 0;
@@ -176,11 +168,11 @@ Poly2 shadow_of(const Vec3& e, const std::vector<Vec3>& vertices) {
 TEST(LightTransport, MirrorImageSourcePerTexel) {
     const Vec3 light(0.0, 1.0, 0.0), image(2.0, 1.0, 0.0);
     const std::vector<Vec3> mirror = {{1, 0.1, -0.6}, {1, 0.1, 0.6}, {1, 0.9, 0.6}, {1, 0.9, -0.6}};
-    const Scene scene = from_json(floor_scene(
+    const Scene scene = scene_from_json(floor_scene(
         R"(, {"type": "polygon", "material": "mirror",
               "vertices": [[1, 0.1, -0.6], [1, 0.1, 0.6], [1, 0.9, 0.6], [1, 0.9, -0.6]]})",
         R"({"type": "point", "position": [0, 1, 0], "intensity": [1, 1, 1]})"));
-    const auto t = run(scene, params(33, 64, 8, 1));
+    const auto t = run_transport(scene, params(33, 64, 8, 1));
     const Chart& c = floor_chart(scene);
     const Poly2 lit_by_image = shadow_of(image, mirror), shadow = shadow_of(light, mirror);
     double worst = 0.0, worst_edge = 0.0;
@@ -216,11 +208,11 @@ TEST(LightTransport, MirrorImageSourcePerTexel) {
 TEST(LightTransport, DirectionalLightShadowEdgeTexels) {
     const Vec3 d = glm::normalize(Vec3(0.5, -1.0, 0.3));
     const double E = 4.0;
-    const Scene scene = from_json(floor_scene(
+    const Scene scene = scene_from_json(floor_scene(
         R"(, {"type": "polygon", "material": "white",
               "vertices": [[-0.5, 0.5, -0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 0.5, -0.5]]})",
         R"({"type": "directional", "direction": [0.5, -1, 0.3], "irradiance": [4, 4, 4]})"));
-    const auto t = run(scene, params(33, 64, 8, 1));
+    const auto t = run_transport(scene, params(33, 64, 8, 1));
     const Chart& c = floor_chart(scene);
     const double full = E * -d.y, shift = 0.5 / -d.y;
     const Poly2 shadow = ccw({{-0.5 + d.x * shift, -0.5 + d.z * shift},
@@ -248,11 +240,11 @@ TEST(LightTransport, DirectionalLightShadowEdgeTexels) {
 // 1 % of the peak, within 1e-4 of the peak elsewhere; and the power emitted is the spot's.
 TEST(LightTransport, SpotLightFalloffPerTexel) {
     const Vec3 pos(0.1, 1.0, -0.1);
-    const Scene scene = from_json(
+    const Scene scene = scene_from_json(
         floor_scene("", R"({"type": "spot", "position": [0.1, 1, -0.1], "direction": [0, -1, 0],
                 "inner_deg": 20, "outer_deg": 40, "power": [3, 3, 3]})"));
     const Light& l = scene.lights[0];
-    const auto t = run(scene, params(33, 64, 8, 1));
+    const auto t = run_transport(scene, params(33, 64, 8, 1));
     const Chart& c = floor_chart(scene);
     const double peak = l.intensity.x / (pos.y * pos.y);
     double worst = 0.0, worst_dim = 0.0;
@@ -293,7 +285,7 @@ TEST(LightTransport, SunDiscIrradianceOnAFacingPlane) {
             "lights": [{"type": "directional", "direction": [0, -1, 0], "irradiance": [5, 5, 5],
                         "angular_diameter_deg": 30}]})",
         "sun.json", "");
-    const auto t = run(scene, params(33, 32, 8, 1));
+    const auto t = run_transport(scene, params(33, 32, 8, 1));
     const Chart& c = floor_chart(scene);
     double worst = 0.0;
     for (size_t k = 0; k < size_t(c.texels.count()); ++k) {

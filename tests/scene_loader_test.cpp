@@ -684,7 +684,7 @@ TEST(SceneBadInput, BadLights) {
     expect_error(lit_room(R"({"name": "a", "type": "point", )" + at + R"("power": [1, 1, 1]},
                              {"name": "a", "type": "point", )" +
                           at + R"("power": [1, 1, 1]})"),
-                 "bad.json: lights[1]: duplicate light name 'a'");
+                 "bad.json: lights[1].name: duplicate light name 'a'");
     expect_error(
         R"({"materials": )" + kMaterials + R"(, "objects": [)" + kLamp + R"(], "lights": {}})",
         "bad.json: lights: expected an array");

@@ -13,7 +13,9 @@
 #include "vlf/bake/bake.hpp"
 #include "vlf/render/image_io.hpp"
 #include "vlf/scene/scene.hpp"
+#include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/parameters.hpp"
+#include "vlf/transport/transport.hpp"
 
 namespace vlf::test {
 
@@ -112,6 +114,18 @@ inline PropagateParams params(int l, int N, int m, int cycles, bool deferred = f
     p.deferred = deferred;
     p.resample = false;
     return p;
+}
+
+// Runs p.cycles cycles of the transport (the last one shoots everything).
+inline std::unique_ptr<Transport> run_transport(const Scene& scene, const PropagateParams& p) {
+    auto t = std::make_unique<Transport>(scene, p);
+    for (int c = 1; c <= p.cycles; ++c) t->run_cycle(c == p.cycles);
+    return t;
+}
+
+// A scene from JSON text, its files relative to scenes/.
+inline Scene scene_from_json(const std::string& text) {
+    return load_scene_from_string(text, "test.json", source_path("scenes"));
 }
 
 }  // namespace vlf::test

@@ -18,6 +18,7 @@
 namespace vlf {
 namespace {
 
+using test::run_transport;
 using test::TempDir;
 
 // A binary PPM (stb reads it like any image): row 0 at the top.
@@ -126,12 +127,6 @@ TEST(Texture, TexelAlbedoIsTheTexturesMeanOverEachTexel) {
     EXPECT_TRUE(u.chart_of(first_face_of(u, "floor/floor")).texel_albedo.empty());
 }
 
-std::unique_ptr<Transport> run(const Scene& scene, const PropagateParams& p) {
-    auto t = std::make_unique<Transport>(scene, p);
-    for (int c = 1; c <= p.cycles; ++c) t->run_cycle(c == p.cycles);
-    return t;
-}
-
 // The floor sees only the lamp, so each texel reflects exactly its albedo times what it
 // receives: a textured floor's texel radiance over its albedo equals an untextured floor's
 // over its albedo, texel by texel, and the ledger closes.
@@ -142,8 +137,8 @@ TEST(Texture, PropagationReflectsEachTexelsAlbedo) {
     for (bool perturb : {false, true}) {
         PropagateParams p = test::params(129, 64, 8, 3);
         if (perturb) p.perturbations = 2;
-        const auto ta = run(tex, p);
-        const auto tb = run(plain, p);
+        const auto ta = run_transport(tex, p);
+        const auto tb = run_transport(plain, p);
         for (const LedgerEntry& e : ta->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
         const Chart& ca = tex.chart_of(first_face_of(tex, "floor/floor"));
         const Chart& cb = plain.chart_of(first_face_of(plain, "floor/floor"));
@@ -177,7 +172,7 @@ TEST(Texture, MirrorWithATextureKeepsTheLedger) {
               "newmtl lamp\nKd 0 0 0\nKe 5 5 5\n");
     const Scene s = load_scene(dir.write("floor.obj", floor_obj()));
     EXPECT_TRUE(s.chart_of(first_face_of(s, "floor/floor")).texel_albedo.empty());
-    const auto t = run(s, test::params(129, 32, 8, 3));
+    const auto t = run_transport(s, test::params(129, 32, 8, 3));
     for (const LedgerEntry& e : t->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
 }
 
@@ -199,7 +194,7 @@ TEST(Texture, BakeKeepsTexturesAndRendersThemAtFullResolution) {
     o.texel_size_user = 0.25;
     const Scene scene = load_scene(dir.write("floor.obj", floor_obj()), o);
     const PropagateParams p = test::params(33, 32, 8, 2);
-    auto t = run(scene, p);
+    auto t = run_transport(scene, p);
     const std::string out = (dir.path / "b.vlf").string();
     write_bake(out, make_bake(scene, p, *t, nlohmann::json::object()));
     const Bake bake = read_bake(out);

@@ -21,16 +21,8 @@ namespace vlf {
 namespace {
 
 using test::params;
-
-std::unique_ptr<Transport> run(const Scene& scene, const PropagateParams& p) {
-    auto t = std::make_unique<Transport>(scene, p);
-    for (int c = 1; c <= p.cycles; ++c) t->run_cycle(c == p.cycles);
-    return t;
-}
-
-Scene from_json(const std::string& text) {
-    return load_scene_from_string(text, "test.json", test::source_path("scenes"));
-}
+using test::run_transport;
+using test::scene_from_json;
 
 Scene test_scene(const std::string& name) {
     return load_scene(test::source_path("tests/scenes/" + name));
@@ -46,7 +38,7 @@ void expect_ledger_closes(const Transport& t) {
 
 TEST(TransportLedger, ClosedDiffuseSceneBalances) {
     const Scene scene = load_scene(test::source_path("scenes/closed-box.json"));
-    const auto t = run(scene, params(129, 32, 8, 4, /*deferred=*/true));
+    const auto t = run_transport(scene, params(129, 32, 8, 4, /*deferred=*/true));
     expect_ledger_closes(*t);
     // Light was really moved and absorbed, not just held.
     const LedgerEntry& e = t->ledger().back();
@@ -56,7 +48,8 @@ TEST(TransportLedger, ClosedDiffuseSceneBalances) {
 // A lamp over a black floor: after the first cycle nothing is left to shoot, and a run asked
 // for 50 cycles stops there instead of repeating zeros.
 TEST(TransportLedger, StopsWhenNothingIsLeftToShoot) {
-    const Scene scene = from_json(R"({"materials": {"black": {}, "lamp": {"emission": [1, 1, 1]}},
+    const Scene scene =
+        scene_from_json(R"({"materials": {"black": {}, "lamp": {"emission": [1, 1, 1]}},
         "objects": [{"type": "polygon", "material": "black",
                      "vertices": [[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]},
                     {"type": "polygon", "material": "lamp",
@@ -75,7 +68,7 @@ TEST(TransportLedger, StopsWhenNothingIsLeftToShoot) {
 TEST(TransportLedger, LampUnderTheCeilingLeavesNoBlazingTexels) {
     const Scene scene =
         load_scene(test::source_path("scenes/models/cornell-box/CornellBox-Original.obj"));
-    const auto t = run(scene, params(513, 64, 8, 2));
+    const auto t = run_transport(scene, params(513, 64, 8, 2));
     for (const LedgerEntry& e : t->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
     const TextureMaps& tex = t->texture_maps();
     double brightest = 0.0;
@@ -91,7 +84,7 @@ TEST(TransportLedger, ClosedSceneWithMirrorsBalances) {
     const Scene scene = test_scene("closed-mirror-room.json");
     ASSERT_GT(scene.specular_face_count(), 0);
     for (bool deferred : {false, true}) {
-        const auto t = run(scene, params(129, 32, 8, 4, deferred));
+        const auto t = run_transport(scene, params(129, 32, 8, 4, deferred));
         expect_ledger_closes(*t);
         // The mirror carries light: its unshot maps were filled at some point.
         double lt = 0.0;
@@ -218,7 +211,7 @@ TEST(TransportLedger, ContactGeometryLeaksNothing) {
                                                "contact.json", ".");
     PropagateParams p;
     p.cycles = 3;
-    const auto t = run(scene, p);
+    const auto t = run_transport(scene, p);
     const TextureMaps& tex = t->texture_maps();
     for (const LedgerEntry& e : t->ledger()) {
         EXPECT_EQ(e.escaped, Rgb(0.0)) << format_ledger(e);
@@ -256,7 +249,7 @@ TEST(TransportLedger, NumericalLossUnderAThousandthOnEveryScene) {
     for (const auto& entry : std::filesystem::directory_iterator(test::source_path("scenes"))) {
         if (entry.path().extension() != ".json") continue;
         const Scene scene = load_scene(entry.path().string());
-        const auto t = run(scene, PropagateParams{});
+        const auto t = run_transport(scene, PropagateParams{});
         const LedgerEntry& e = t->ledger().back();
         for (int c = 0; c < 3; ++c)
             EXPECT_LE(e.lost.total()[c], 1e-3 * e.emitted[c])
@@ -267,7 +260,7 @@ TEST(TransportLedger, NumericalLossUnderAThousandthOnEveryScene) {
 
 TEST(TransportLedger, OpenSceneCountsEscapedLight) {
     const Scene scene = load_scene(test::source_path("scenes/cornell.json"));
-    const auto t = run(scene, params(33, 32, 8, 3));
+    const auto t = run_transport(scene, params(33, 32, 8, 3));
     const LedgerEntry& e = t->ledger().back();
     EXPECT_GT(e.escaped.x, 0.05 * e.emitted.x);
     EXPECT_LE(e.relative_error(), 1e-6) << format_ledger(e);
@@ -283,7 +276,7 @@ struct TexelErrors {
 };
 TexelErrors furnace_errors(const PropagateParams& p) {
     const Scene scene = test_scene("furnace-room.json");
-    const auto t = run(scene, p);
+    const auto t = run_transport(scene, p);
     const TextureMaps& tex = t->texture_maps();
     const double rho = 0.6, expect = (1 - std::pow(rho, p.cycles + 1)) / (1 - rho);
     TexelErrors e;
@@ -354,7 +347,7 @@ TEST(TransportFurnace, EveryTexelWithin2PercentWithTheRefinements) {
 // Form factor: emitter square with radiance Le, receiver with rho_d = 1 collects; after
 // one cycle received / emitted = F.
 double form_factor(const std::string& receiver_vertices, int l, int N) {
-    const Scene scene = from_json(fmt::format(R"({{
+    const Scene scene = scene_from_json(fmt::format(R"({{
       "materials": {{"lamp": {{"emission": [1, 1, 1]}}, "catch": {{"diffuse": [1, 1, 1]}}}},
       "objects": [
         {{"type": "polygon", "material": "lamp", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}},
@@ -362,8 +355,8 @@ double form_factor(const std::string& receiver_vertices, int l, int N) {
       ],
       "settings": {{"texel_size": 0.05}}
     }})",
-                                              receiver_vertices));
-    const auto t = run(scene, params(l, N, 16, 1));
+                                                    receiver_vertices));
+    const auto t = run_transport(scene, params(l, N, 16, 1));
     const TextureMaps& tex = t->texture_maps();
     const Rgb received = TextureMaps::sum(tex.current, tex.begin(1), tex.count(1));
     return received.x * t->to_user_power() / t->ledger().back().emitted.x;
@@ -403,7 +396,7 @@ struct RatioStats {
 };
 RatioStats mirror_image_ratios(double filter_sigma, int perturbations = 0, int supersample = 1) {
     const double h = 0.15;  // emitter half-size
-    const Scene scene = from_json(fmt::format(R"({{
+    const Scene scene = scene_from_json(fmt::format(R"({{
       "materials": {{"lamp": {{"emission": [1, 1, 1]}}, "mirror": {{"specular": [0.9, 0.9, 0.9]}},
                      "floor": {{"diffuse": [1, 1, 1]}}}},
       "objects": [
@@ -413,12 +406,12 @@ RatioStats mirror_image_ratios(double filter_sigma, int perturbations = 0, int s
       ],
       "settings": {{"texel_size": 0.1}}
     }})",
-                                              h));
+                                                    h));
     PropagateParams p = params(2049, 128, 16, 2);
     p.filter_sigma = filter_sigma;
     p.perturbations = perturbations;
     p.supersample = supersample;
-    const auto t = run(scene, p);
+    const auto t = run_transport(scene, p);
     const TextureMaps& tex = t->texture_maps();
     const Chart& floor = scene.charts[0];
     const double s = scene.normalisation.scale;
@@ -477,7 +470,7 @@ TEST(TransportMirror, ImageSourceIrradianceWithPerturbationAndSupersampling) {
 
 // Perturbed PSFs fill the holes cylindrical beams leave far from a small emitter.
 double hole_roughness(int perturbations) {
-    const Scene scene = from_json(R"({
+    const Scene scene = scene_from_json(R"({
       "materials": {"lamp": {"emission": [1, 1, 1]}, "floor": {"diffuse": [1, 1, 1]}},
       "objects": [
         {"type": "polygon", "material": "floor", "vertices": [[-2,-2,0],[2,-2,0],[2,2,0],[-2,2,0]]},
@@ -487,7 +480,7 @@ double hole_roughness(int perturbations) {
     })");
     PropagateParams p = params(33, 128, 16, 1);
     p.perturbations = perturbations;
-    const auto t = run(scene, p);
+    const auto t = run_transport(scene, p);
     const TextureMaps& tex = t->texture_maps();
     const Chart& floor = scene.charts[0];
     const double s = scene.normalisation.scale;
@@ -542,11 +535,11 @@ TEST(TransportDeterminism, SameMapsOnOneAndTwoThreads) {
     std::unique_ptr<Transport> one, two;
     {
         ThreadLimit limit(1);
-        one = run(scene, p);
+        one = run_transport(scene, p);
     }
     {
         ThreadLimit limit(2);
-        two = run(scene, p);
+        two = run_transport(scene, p);
     }
     expect_same_maps(*one, *two);
 }
@@ -556,15 +549,15 @@ TEST(TransportDeterminism, SameMapsOnOneAndTwoThreads) {
 TEST(TransportDeterminism, CacheBudgetDoesNotChangeTheMaps) {
     const Scene scene = test_scene("closed-mirror-room.json");
     PropagateParams p = params(129, 32, 8, 3, true);
-    const std::unique_ptr<Transport> all = run(scene, p);
+    const std::unique_ptr<Transport> all = run_transport(scene, p);
     EXPECT_EQ(all->cached_directions(), 129);
     p.cache_budget_mib = 0;
-    const std::unique_ptr<Transport> none = run(scene, p);
+    const std::unique_ptr<Transport> none = run_transport(scene, p);
     EXPECT_EQ(none->cached_directions(), 0);
     EXPECT_EQ(none->geometry_cache_bytes(), 0);
     p.cache_budget_mib = std::max<int64_t>(1, (all->geometry_cache_bytes() >> 20) / 2);
     ASSERT_LT(p.cache_budget_mib << 20, all->geometry_cache_bytes());
-    const std::unique_ptr<Transport> some = run(scene, p);
+    const std::unique_ptr<Transport> some = run_transport(scene, p);
     EXPECT_GT(some->cached_directions(), 0);
     EXPECT_LT(some->cached_directions(), 129);
     EXPECT_LE(some->geometry_cache_bytes(), p.cache_budget_mib << 20);
@@ -581,14 +574,14 @@ TEST(TransportDeterminism, PerturbedPassesClipOnlyWhereLightGoes) {
     p.perturbations = 2;
     p.filter_sigma = 0.7;
     p.perturb_cycles = 1;  // the only cycle is the last that perturbs: clipped where needed
-    const std::unique_ptr<Transport> lazy = run(scene, p);
+    const std::unique_ptr<Transport> lazy = run_transport(scene, p);
     EXPECT_EQ(lazy->cached_directions(), 129);
     p.perturb_cycles = 2;  // perturbed geometry built whole and cached for cycle 2
-    const std::unique_ptr<Transport> whole = run(scene, p);
+    const std::unique_ptr<Transport> whole = run_transport(scene, p);
     EXPECT_EQ(whole->cached_directions(), 3 * 129);
     expect_same_maps(*lazy, *whole);
     p.cycles = 3;
-    const std::unique_ptr<Transport> later = run(scene, p);
+    const std::unique_ptr<Transport> later = run_transport(scene, p);
     EXPECT_EQ(later->cached_directions(), 129);
     expect_ledger_closes(*later);
 }

@@ -31,16 +31,15 @@ double Light::falloff(const Vec3& w) const {
     return t * t * (3.0 - 2.0 * t);  // smoothstep
 }
 
-double Light::spot_solid_angle(double ci, double co) {
-    // 2 pi [ (1 - cos_inner) + (cos_inner - cos_outer) / 2 ]: the smoothstep integrates to
-    // one half over its interval of cos theta.
-    return 2.0 * kPi * ((1.0 - ci) + 0.5 * (ci - co));
+double Light::solid_angle() const {
+    if (type == LightType::Point) return 4.0 * kPi;
+    if (type != LightType::Spot) return 0.0;
+    // The smoothstep integrates to one half over its interval of cos theta.
+    return 2.0 * kPi * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_outer));
 }
 
 Rgb Light::power() const {
-    if (type == LightType::Point) return intensity * (4.0 * kPi);
-    if (type == LightType::Spot) return intensity * spot_solid_angle(cos_inner, cos_outer);
-    return Rgb(0.0);
+    return intensity * solid_angle();
 }
 
 bool Light::emits() const {

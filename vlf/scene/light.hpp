@@ -36,8 +36,9 @@ struct Light {
     double falloff(const Vec3& w) const;
     // Point, spot: the emitted power, W (the integral of the intensity over the sphere).
     Rgb power() const;
-    // The solid angle a spot's falloff integrates to: power = intensity x this.
-    static double spot_solid_angle(double cos_inner, double cos_outer);
+    // Point, spot: the solid angle its falloff integrates to, power = intensity x this
+    // (4 pi; a spot's 2 pi [(1 - cos_inner) + (cos_inner - cos_outer) / 2]).
+    double solid_angle() const;
     bool emits() const;
 };
 

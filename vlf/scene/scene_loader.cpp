@@ -403,24 +403,9 @@ Light validate_light(const Reader& r, int index) {
     if (intensity) {
         l.intensity = checked_rgb(*intensity, kMaxEmission, kBound);
     } else {
-        const double solid_angle = l.type == LightType::Point
-                                       ? 4.0 * kPi
-                                       : Light::spot_solid_angle(l.cos_inner, l.cos_outer);
-        l.intensity = checked_rgb(*power, kMaxEmission, kBound) / solid_angle;
+        l.intensity = checked_rgb(*power, kMaxEmission, kBound) / l.solid_angle();
     }
     return l;
-}
-
-std::vector<Light> validate_lights(const Reader& r) {
-    std::vector<Light> lights;
-    std::set<std::string> names;
-    const std::vector<Reader> list = r.elements();
-    for (size_t i = 0; i < list.size(); ++i) {
-        lights.push_back(validate_light(list[i], static_cast<int>(i)));
-        if (!names.insert(lights.back().name).second)
-            list[i].fail(fmt::format("duplicate light name '{}'", lights.back().name));
-    }
-    return lights;
 }
 
 std::vector<Material> validate_materials(const Reader& r) {
@@ -434,19 +419,22 @@ std::vector<Material> validate_materials(const Reader& r) {
     return materials;
 }
 
-std::vector<Camera> validate_cameras(const Reader& r) {
-    std::vector<Camera> cameras;
+// A list of things with unique names (cameras, lights), each validated by `one`; a repeated
+// name is reported at the repeat's "name" (or the element, when the name is the default).
+template <class T, class Validate>
+std::vector<T> validate_named(const Reader& r, const char* what, Validate one) {
+    std::vector<T> items;
     std::set<std::string> names;
     const std::vector<Reader> list = r.elements();
     for (size_t i = 0; i < list.size(); ++i) {
-        cameras.push_back(validate_camera(list[i], static_cast<int>(i)));
-        if (!names.insert(cameras.back().name).second) {
+        items.push_back(one(list[i], static_cast<int>(i)));
+        if (!names.insert(items.back().name).second) {
             const auto name = list[i].optional("name");
             (name ? *name : list[i])
-                .fail(fmt::format("duplicate camera name '{}'", cameras.back().name));
+                .fail(fmt::format("duplicate {} name '{}'", what, items.back().name));
         }
     }
-    return cameras;
+    return items;
 }
 
 void validate_settings(const Reader& r, SceneDescription& d) {
@@ -473,8 +461,10 @@ SceneDescription validate(const Json& root, const std::string& file, const std::
         d.objects.push_back(
             validate_object(objects[i], static_cast<int>(i), material_names, base_dir));
 
-    if (const auto cams = r.optional("cameras")) d.cameras = validate_cameras(*cams);
-    if (const auto lights = r.optional("lights")) d.lights = validate_lights(*lights);
+    if (const auto cams = r.optional("cameras"))
+        d.cameras = validate_named<Camera>(*cams, "camera", validate_camera);
+    if (const auto lights = r.optional("lights"))
+        d.lights = validate_named<Light>(*lights, "light", validate_light);
     if (const auto s = r.optional("settings")) validate_settings(*s, d);
 
     // (An imported file's materials and lights are known only once it is read.)

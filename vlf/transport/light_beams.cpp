@@ -35,8 +35,6 @@ constexpr double kEdgeTexels = 1.0 / 32.0;
 // A beam that meets nothing splits until it is this many texels wide across the scene: a
 // face's corner poking in between its rays is then at most a small part of a texel.
 constexpr double kMissTexels = 0.125;
-// Sub-cells per side of the quadrature of a spot's falloff over a root beam.
-constexpr int kSpotQuadrature = 4;
 
 // sum of atan(u v / sqrt(1 + u^2 + v^2)) over the corners (the solid angle of a rectangle
 // on the plane z = 1 seen from the origin; Girard for a spherical quadrilateral).
@@ -74,21 +72,6 @@ bool on_face(const Face& f, const Vec3& p) {
 }
 
 }  // namespace
-
-// A spot's falloff integrated over a beam's solid angle: a q x q midpoint rule, each
-// cell's solid angle exact.
-double LightBeams::spot_weight(const Light& l, const Rect& r) {
-    const int q = kSpotQuadrature;
-    const double hu = (r.u1 - r.u0) / q, hv = (r.v1 - r.v0) / q;
-    double w = 0.0;
-    for (int b = 0; b < q; ++b)
-        for (int a = 0; a < q; ++a) {
-            const double u = r.u0 + a * hu, v = r.v0 + b * hv;
-            const Vec3 dir = glm::normalize(cube_direction(r.side, u + 0.5 * hu, v + 0.5 * hv));
-            w += l.falloff(dir) * cube_solid_angle(u, u + hu, v, v + hv);
-        }
-    return w;
-}
 
 double cube_solid_angle(double u0, double u1, double v0, double v1) {
     return corner_angle(u1, v1) - corner_angle(u0, v1) - corner_angle(u1, v0) +
@@ -489,12 +472,12 @@ void LightBeams::shoot(int64_t k0, int64_t k1, LightShotResult& out) const {
             const double cu = std::clamp(0.0, r.u0, r.u1), cv = std::clamp(0.0, r.v0, r.v1);
             if (cu * cu + cv * cv > 1.0) continue;
             power = s.unit_power * ((r.u1 - r.u0) * (r.v1 - r.v0));
-        } else if (s.light->type == LightType::Point) {
-            power = s.unit_power * cube_solid_angle(r.u0, r.u1, r.v0, r.v1);
-        } else {  // spot: its falloff integrated over the beam
-            const double w = spot_weight(*s.light, r);
-            if (!(w > 0.0)) continue;
-            power = s.unit_power * w;
+        } else {  // its solid angle, with a spot's falloff: the sum of its quarters' shares
+            double w[4];
+            child_weights(s, r, w);
+            const double sum = w[0] + w[1] + w[2] + w[3];
+            if (!(sum > 0.0)) continue;
+            power = s.unit_power * sum;
         }
         out.emitted += power;
         trace(s, r, Segment{}, power, 0, out);

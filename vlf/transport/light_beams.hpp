@@ -101,7 +101,6 @@ class LightBeams {
     void ray(const Source& s, const Segment& g, int side, double u, double v, Vec3& o,
              Vec3& d) const;
     void child_weights(const Source& s, const Rect& r, double w[4]) const;
-    static double spot_weight(const Light& l, const Rect& r);
     // A ray of a beam and what it met (cls: the chart of the front face it meets, -1 none,
     // -2 a back face, -3 it leaves its mirror's plane beyond the mirror's rim).
     struct Traced {

@@ -89,10 +89,9 @@ void Transport::load_emission(LedgerEntry& e) {
     }
 }
 
-void Transport::shoot_small_emitters() {
+void Transport::shoot_small_emitters(const RayCaster& caster) {
     if (m_small_emitters.empty()) return;
     const Stopwatch shot;
-    const RayCaster caster(m_scene);
     // Enough rays that every texel in view gets a few hundred of them.
     const uint64_t K =
         std::clamp<uint64_t>(uint64_t(256) * m_tex.texels(), uint64_t(1) << 20, uint64_t(1) << 25);
@@ -121,14 +120,10 @@ void Transport::shoot_small_emitters() {
     m_timings.passes += shot.seconds();
 }
 
-void Transport::shoot_lights() {
+void Transport::shoot_lights(const RayCaster& caster) {
     if (m_scene.lights.empty()) return;
     const Stopwatch shot;
-    const RayCaster caster(m_scene);
-    // The reach of the faces' rims in texels (transport_setup.cpp): a leaf beam's
-    // footprint stays within half of it.
-    const double reach = 2.0 * 2.0 / (m_params.field.resolution * m_params.supersample);
-    const LightBeams beams(m_scene, caster, m_tex, m_polygons, reach);
+    const LightBeams beams(m_scene, caster, m_tex, m_polygons, m_rim_reach);
     const int64_t K = beams.roots();
     // The lights' deposits are exact at rims and shadow edges: they join P^N after the
     // rim pooling and the filter, which are there for the field's beams (run_cycle).
@@ -283,8 +278,11 @@ void Transport::run_cycle(bool last) {
     e.cycle = cycles_done() + 1;
     if (e.cycle == 1) {
         load_emission(m_running);
-        shoot_small_emitters();
-        shoot_lights();
+        if (!m_small_emitters.empty() || !m_scene.lights.empty()) {
+            const RayCaster caster(m_scene);  // one for both first shots
+            shoot_small_emitters(caster);
+            shoot_lights(caster);
+        }
     }
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);

@@ -51,6 +51,7 @@ Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations
 std::vector<double> send_normalisers(const Scene& scene, const DirectionSet& dirs,
                                      const std::vector<Mat3>& rotations, const Coverage& coverage);
 
+class RayCaster;
 struct DirectionGeometry;  // per-direction PSF, overlaps, partners (transport_internal.hpp)
 
 // A chart with rays in a direction and its projected cosine there (VLF §4.4 eq. (3)).
@@ -137,10 +138,10 @@ class Transport {
     void load_emission(LedgerEntry& e);
     // Cycle 1: the emitters smaller than a ray shoot their power by ray casting
     // (small_emitters.hpp) instead of through the PSFs.
-    void shoot_small_emitters();
+    void shoot_small_emitters(const RayCaster& caster);
     // Cycle 1: point, spot and directional lights send their light into P^N by beam
     // tracing (light_beams.hpp).
-    void shoot_lights();
+    void shoot_lights(const RayCaster& caster);
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
@@ -166,6 +167,7 @@ class Transport {
     std::vector<Rgb> m_light_next;         // cycle 1: the lights' share of P^N (shoot_lights)
     LightBeamStats m_light_stats;          // the lights' beams (shoot_lights)
     std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels
+    double m_rim_reach = 0.0;              // ... with the chart's rim lines this near
     RimPools m_pools;                      // rim texels and the texels they pool with
     std::vector<LedgerEntry> m_ledger;
     LedgerEntry m_running;            // cumulative absorbed/escaped/emitted

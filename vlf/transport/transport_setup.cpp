@@ -157,7 +157,8 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
     m_small_emitters = small_emitter_charts(scene, params.field.resolution * params.supersample);
     // A beam's footprint reaches about a pixel (2 / N, the PSF square's side over N) from
     // its ray; two pixels of the exchange grid cover beams down to cos 0.35 (docs/charts.md).
-    m_polygons = faces_in_texels(scene, 2.0 * 2.0 / (params.field.resolution * params.supersample));
+    m_rim_reach = 2.0 * 2.0 / (params.field.resolution * params.supersample);
+    m_polygons = faces_in_texels(scene, m_rim_reach);
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
     m_work = std::make_unique<Workspace>();
