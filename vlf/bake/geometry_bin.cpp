@@ -5,6 +5,7 @@
 //   u64 faces F, charts C, vertices V, texels T
 //   faces:  i32 object[F], material[F], twin[F], chart[F]; u32 vertex_begin[F+1];
 //           u64 inner_edges[F]; f64 normal[3F], plane_offset[F], area[F]; f64 vertex[3V]
+//          (a dielectric's face is inner, Face::inner, when its twin comes before it)
 //   charts: i32 material[C]; u8 planar[C]; f64 normal[3C], area[C]; u32 face_begin[C+1];
 //           i32 face[F]; f64 origin[3C], axis_u[3C], axis_v[3C], size[C];
 //           i32 width[C], height[C]; f64 texel_area[T]
@@ -139,6 +140,12 @@ void read_faces(BinaryReader& r, Scene& s, size_t F, size_t C, uint64_t V) {
     for (const Face& f : s.faces)
         if (f.twin >= 0 && (f.twin == f.id || s.faces[f.twin].twin != f.id))
             r.fail(fmt::format("face twin of {}: face {} does not name it back", f.id, f.twin));
+    // A dielectric's faces come in pairs, the outer face first (scene_loader.cpp).
+    for (Face& f : s.faces) {
+        if (!s.materials[size_t(f.material)].dielectric) continue;
+        if (f.twin < 0) r.fail(fmt::format("face twin of {}: a dielectric face has none", f.id));
+        f.inner = f.twin < f.id;
+    }
 }
 
 void read_charts(BinaryReader& r, Scene& s, size_t C, uint64_t T) {

@@ -26,7 +26,9 @@ json scene_to_json(const Scene& scene) {
                              {"emission", vec_json(m.emission)},
                              {"diffuse_texture", m.diffuse_texture},
                              {"transmission", m.transmission},
-                             {"ior", m.ior}});
+                             {"dielectric", m.dielectric},
+                             {"ior", m.ior},
+                             {"absorption", vec_json(m.absorption)}});
     json objects = json::array();
     for (const SceneObject& o : scene.objects)
         objects.push_back({{"name", o.name},
@@ -71,8 +73,8 @@ json scene_to_json(const Scene& scene) {
 namespace {
 
 Material read_material(const JsonReader& r) {
-    r.only_keys(
-        {"name", "diffuse", "specular", "emission", "diffuse_texture", "transmission", "ior"});
+    r.only_keys({"name", "diffuse", "specular", "emission", "diffuse_texture", "transmission",
+                 "dielectric", "ior", "absorption"});
     Material m;
     m.name = r.required("name").string();
     m.diffuse = r.required("diffuse").vec3();
@@ -81,6 +83,8 @@ Material read_material(const JsonReader& r) {
     m.diffuse_texture = r.required("diffuse_texture").integer(-1);
     m.transmission = r.required("transmission").number();
     m.ior = r.required("ior").number();
+    m.dielectric = r.required("dielectric").boolean();
+    m.absorption = r.required("absorption").vec3();
     if (!(m.transmission >= 0.0 && m.transmission <= 1.0))
         r.required("transmission").fail("must be in [0, 1]");
     if (!(m.ior >= 1.0)) r.required("ior").fail("must be >= 1");

@@ -27,13 +27,26 @@ struct Material {
     // the material's mean albedo and the albedo at a point is diffuse x texture(uv) / its
     // mean (Scene::albedo_at): the texture's pattern at the material's level.
     int diffuse_texture = -1;
-    // A dielectric's transmission (glTF KHR_materials_transmission) and index of
-    // refraction, kept from imported files for dielectrics (issue 14); propagation does not
-    // use them yet (0 = opaque).
+    // A dielectric's transmission (glTF KHR_materials_transmission), kept from imported
+    // files (0 = opaque); a scene file's glass is `dielectric` instead.
     double transmission = 0.0;
+    // Smooth glass (docs/scenes.md "Glass"): exact unpolarised Fresnel reflectance, Snell
+    // refraction and total internal reflection at its faces (core/fresnel.hpp), Beer-Lambert
+    // absorption inside. `ior` is the index inside relative to the outside (air, 1);
+    // `absorption` the attenuation coefficient per channel, per user unit of length. A
+    // dielectric has no diffuse, specular or emission; its objects are closed, and every
+    // face has an inner twin (Face::inner).
+    bool dielectric = false;
     double ior = 1.5;
+    Rgb absorption{0.0};
     bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
-    bool is_specular() const { return specular.x > 0 || specular.y > 0 || specular.z > 0; }
+    // Specular faces keep directional radiance maps: mirrors and glass.
+    bool is_specular() const {
+        return dielectric || specular.x > 0 || specular.y > 0 || specular.z > 0;
+    }
+    bool is_absorbing() const {
+        return dielectric && (absorption.x > 0 || absorption.y > 0 || absorption.z > 0);
+    }
     bool is_diffuse() const { return diffuse.x > 0 || diffuse.y > 0 || diffuse.z > 0; }
 };
 
@@ -58,10 +71,13 @@ struct TexelFrame {
 };
 
 struct Face {
-    int id = 0;                  // index into Scene::faces
-    int object = 0;              // index into Scene::objects
-    int material = 0;            // index into Scene::materials
-    int twin = -1;               // the reverse face of a two-sided face (same polygon, other side)
+    int id = 0;        // index into Scene::faces
+    int object = 0;    // index into Scene::objects
+    int material = 0;  // index into Scene::materials
+    int twin = -1;     // the reverse face of a two-sided face (same polygon, other side)
+    // A dielectric's face whose front looks into the glass (the twin of an outer face):
+    // light arriving on its front travels inside, and the medium behind it is outside.
+    bool inner = false;
     int chart = -1;              // index into Scene::charts: the surface whose texels it uses
     std::vector<Vec3> vertices;  // normalised coords, counter-clockwise seen from the front
     Vec3 normal{0, 0, 1};        // unit, front side

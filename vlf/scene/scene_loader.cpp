@@ -74,6 +74,7 @@
 #include "vlf/core/files.hpp"
 #include "vlf/core/json_reader.hpp"
 #include "vlf/scene/charts.hpp"
+#include "vlf/scene/closed_surface.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene_import.hpp"
@@ -166,10 +167,32 @@ Rgb checked_rgb(const Reader& e, double upper, const char* bound) {
     return c;
 }
 
+// "dielectric": {"ior": n, "absorption"?: [r, g, b]} (per user unit of length): glass.
+void validate_dielectric(const Reader& r, Material& m) {
+    for (const char* other : {"diffuse", "specular", "emission"})
+        if (r.optional(other))
+            r.required(other).fail(
+                "a dielectric material has no diffuse, specular or emission (its reflectance "
+                "is Fresnel's)");
+    const Reader d = r.required("dielectric");
+    d.expect_object();
+    d.only_keys({"ior", "absorption"});
+    m.dielectric = true;
+    m.ior = d.required("ior").positive();
+    if (!(m.ior > 1.0 && m.ior <= 4.0))
+        d.required("ior").fail(fmt::format("must be in (1, 4] (got {})", m.ior));
+    if (const auto a = d.optional("absorption"))
+        m.absorption = checked_rgb(*a, 1e6, "absorption must be <= 1e6 per unit of length");
+}
+
 Material validate_material(const Reader& r, const std::string& name) {
-    r.only_keys({"diffuse", "specular", "emission"});
+    r.only_keys({"diffuse", "specular", "emission", "dielectric"});
     Material m;
     m.name = name;
+    if (r.optional("dielectric")) {
+        validate_dielectric(r, m);
+        return m;
+    }
     auto rgb = [&](const char* key, double upper, const char* bound) {
         const auto e = r.optional(key);
         return e ? checked_rgb(*e, upper, bound) : Rgb(0.0);
@@ -752,9 +775,10 @@ std::vector<Vec2> triangle_uvs(const ImportedMesh& mesh, size_t k, const Polygon
     return uv;
 }
 
+// `twins`: every face gets a reversed twin (a two-sided object, or glass).
 ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
                           const ImportedMesh& mesh, double tol, const std::string& file,
-                          std::vector<std::string>& notes) {
+                          std::vector<std::string>& notes, bool twins) {
     ObjectFaces result;
     std::vector<Polygon>& out = result.polygons;
     const bool textured = !mesh.uvs.empty();
@@ -823,7 +847,7 @@ ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
         for (Polygon& p : out) std::reverse(p.begin(), p.end());
         for (auto& uv : uvs) std::reverse(uv.begin(), uv.end());
     }
-    if (o.two_sided) {
+    if (o.two_sided || twins) {
         const size_t n = out.size();
         for (size_t k = 0; k < n; ++k) out.emplace_back(out[k].rbegin(), out[k].rend());
         for (size_t k = 0; k < uvs.size() && k < n; ++k)
@@ -879,11 +903,13 @@ void add_objects(Scene& scene, const SceneDescription& d, const std::vector<Obje
             f.plane_offset = glm::dot(f.normal, polygon_centroid(f.vertices));
             scene.faces.push_back(std::move(f));
         }
-        if (o.two_sided) {  // the second half of the object's faces reverses the first
+        const bool glass = d.materials[size_t(o.material)].dielectric;
+        if (o.two_sided || glass) {  // the second half of the object's faces reverses the first
             const int half = so.face_count / 2;
             for (int k = 0; k < half; ++k) {
                 scene.faces[so.first_face + k].twin = so.first_face + half + k;
                 scene.faces[so.first_face + half + k].twin = so.first_face + k;
+                scene.faces[so.first_face + half + k].inner = glass;
             }
         }
     }
@@ -906,8 +932,19 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
         fail(file, "objects", "the scene's geometry has no extent");
     const double tol = kRelativeTolerance * diameter;
     std::vector<ObjectFaces> faces(d.objects.size());
-    for (size_t i = 0; i < d.objects.size(); ++i)
-        faces[i] = checked_faces(d.objects[i], raw[i], meshes[i], tol, file, scene.load_notes);
+    for (size_t i = 0; i < d.objects.size(); ++i) {
+        const ObjectDesc& o = d.objects[i];
+        const bool glass = d.materials[size_t(o.material)].dielectric;
+        faces[i] = checked_faces(o, raw[i], meshes[i], tol, file, scene.load_notes, glass);
+        if (!glass) continue;
+        // Its outer faces are the first half (the second are their inner twins).
+        const std::vector<Polygon> outer(
+            faces[i].polygons.begin(),
+            faces[i].polygons.begin() + std::ptrdiff_t(faces[i].polygons.size() / 2));
+        if (const auto why = open_edge(outer, tol))
+            fail(file, fmt::format("{} ({})", o.place, o.name),
+                 "a dielectric object must be closed, its faces turned outward: " + *why);
+    }
 
     const double half_diagonal = normalise(scene, faces, file);
     add_objects(scene, d, faces);
