@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vlf/core/fresnel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/scene/sealed_areas.hpp"
 #include "vlf/transport/small_emitters.hpp"
@@ -58,17 +59,6 @@ int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const V
     const Face& f = scene.faces[hit.face];
     if (glm::dot(f.normal, d) >= 0.0) return -2;  // a back face
     return f.chart;
-}
-
-// Whether point p of f's plane lies on the face (its convex polygon, a hair's tolerance).
-bool on_face(const Face& f, const Vec3& p) {
-    const size_t n = f.vertices.size();
-    for (size_t k = 0; k < n; ++k) {
-        const Vec3& a = f.vertices[k];
-        const Vec3 e = f.vertices[(k + 1) % n] - a;
-        if (glm::dot(glm::cross(e, p - a), f.normal) < -1e-12 * glm::dot(e, e)) return false;
-    }
-    return true;
 }
 
 }  // namespace
@@ -137,22 +127,15 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
     }
 }
 
-void LightBeams::ray(const Source& s, const Segment& g, int side, double u, double v, Vec3& o,
+void LightBeams::ray(const Source& s, const Segment&, int side, double u, double v, Vec3& o,
                      Vec3& d) const {
     if (s.parallel) {
         o = s.base + u * s.e1 + v * s.e2;
         d = s.direction;
     } else {
         o = s.position;
-        d = cube_direction(side, u, v);
+        d = glm::normalize(cube_direction(side, u, v));
     }
-    o = g.M * o + g.t;
-    d = g.M * d;
-    if (g.has_start) {  // the reflected ray starts on the last mirror's plane
-        const double denom = glm::dot(g.n, d);
-        if (denom != 0.0) o += ((g.c - glm::dot(g.n, o)) / denom) * d;
-    }
-    d = glm::normalize(d);
 }
 
 // The shares of a beam's four quarters (in the order of trace's split): their solid
@@ -234,19 +217,42 @@ LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side,
                                     double v) const {
     Traced t;
     ray(s, g, side, u, v, t.o, t.d);
-    if (g.mirror >= 0 && !on_face(m_scene.faces[size_t(g.mirror)], t.o)) {
-        t.cls = -3;  // reflected from beyond the mirror's rim: no mirror was there
-        return t;
+    // Through the segment's specular surfaces: each met on its front, the ray's point on it
+    // put exactly on the face's plane (the ray caster works in single precision), then
+    // reflected or refracted there.
+    int last = -1;
+    for (int e = 0; e < g.count; ++e) {
+        RayHit h;
+        if (!m_caster.intersect(t.o, t.d, e == 0 ? 0.0 : 1e-7, 1e30, h)) {
+            t.cls = -3;
+            return t;
+        }
+        const Face& f = m_scene.faces[size_t(h.face)];
+        const double denom = glm::dot(f.normal, t.d);
+        if (denom >= 0.0 || surface_key(f) != g.events[e].surface) {
+            t.cls = -3;  // beyond the surface's rim: it was not there for this ray
+            return t;
+        }
+        t.o += ((f.plane_offset - glm::dot(f.normal, t.o)) / denom) * t.d;
+        const Vec3 n = f.normal;
+        if (!g.events[e].refract) {
+            t.d = glm::normalize(reflect(t.d, n));
+        } else if (!refract(t.d, n, interface_eta(f.inner, m_scene.material_of(f).ior), t.d)) {
+            t.cls = -3;  // totally reflected where the beam's centre was refracted
+            return t;
+        }
+        last = h.face;
     }
-    t.cls = classify(m_scene, m_caster, t.o, t.d, g.has_start ? 1e-7 : 0.0, t.hit);
-    if (t.cls == -1 && g.has_start) {
+    const bool from_surface = g.count > 0;
+    t.cls = classify(m_scene, m_caster, t.o, t.d, from_surface ? 1e-7 : 0.0, t.hit);
+    if (t.cls == -1 && from_surface) {
         // Reflected where the mirror touches another surface (a mirror box on the floor):
         // the surface may lie within the skipped 1e-7 of the ray's start; look again from
         // just behind it.
         constexpr double kBack = 1e-6;
         RayHit near;
         const int c = classify(m_scene, m_caster, t.o - kBack * t.d, t.d, 0.0, near);
-        if (c != -1 && near.t <= 2.0 * kBack && near.face != g.mirror) {
+        if (c != -1 && near.t <= 2.0 * kBack && near.face != last) {
             near.t -= kBack;
             t.cls = c;
             t.hit = near;
@@ -336,7 +342,7 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
     for (int k = 1; k < 5 && other == 0; ++k)
         if (cls[k] != cls[0]) other = k;
     if (other == 0) {
-        land(s, r, g, depth, cls[0], hit[0], foot, foot_ok, power, out);
+        land(s, r, g, depth, cls[0], hit[0], d[0], foot, foot_ok, power, out);
         return;
     }
     // A leaf across an edge (a face's rim, a shadow's edge) even at the finest level: the
@@ -353,8 +359,9 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         share = 1.0 - (other_ok ? rim_share(hit[other].face, other_foot) : 1.0);
     else  // neither meets a front face: by the rays' votes
         share = double(1 + std::count(cls + 1, cls + 5, cls[0])) / 5.0;
-    land(s, r, g, depth, cls[0], hit[0], foot, foot_ok, power * share, out);
-    land(s, r, g, depth, cls[other], hit[other], other_foot, other_ok, power * (1.0 - share), out);
+    land(s, r, g, depth, cls[0], hit[0], d[0], foot, foot_ok, power * share, out);
+    land(s, r, g, depth, cls[other], hit[other], d[other], other_foot, other_ok,
+         power * (1.0 - share), out);
 }
 
 // The footprint of a beam (its corner rays o[1..4] + t d[1..4]) on the plane of face f;
@@ -410,11 +417,27 @@ double LightBeams::rim_share(int face, const Vec3 foot[4]) const {
 
 // What a beam (or part of one) does where it lands: escapes (cls -1), is absorbed by a
 // back face (-2), or reaches the front of a face: rho_d of it into the texels under its
-// footprint, rho_s of it on as the reflected beam, the rest absorbed.
+// footprint, rho_s of it on as the reflected beam, the rest absorbed; at glass, Fresnel's
+// R of it on as the reflected beam and 1 - R as the refracted one (all of it reflected past
+// the critical angle). A beam that ran inside absorbing glass keeps exp(-sigma d) of its
+// power, d its centre ray's length there.
 void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int depth, int cls,
-                      const RayHit& hit, const Vec3 foot[4], bool foot_ok, const Rgb& power,
-                      LightShotResult& out) const {
+                      const RayHit& hit, const Vec3& dir, const Vec3 foot[4], bool foot_ok,
+                      Rgb power, LightShotResult& out) const {
     if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
+    if (cls == -3) {
+        out.lost.cut_beam += power;
+        return;
+    }
+    if (g.medium >= 0 && cls != -1) {
+        const Material& glass = m_scene.materials[size_t(g.medium)];
+        if (glass.is_absorbing()) {
+            const Rgb kept =
+                power * glm::exp(-glass.absorption * (hit.t / m_scene.normalisation.scale));
+            out.absorbed += power - kept;
+            power = kept;
+        }
+    }
     if (cls == -1) {
         out.escaped += power;
         return;
@@ -423,31 +446,43 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
         out.absorbed_back += power;  // a one-sided face's black back
         return;
     }
-    if (cls == -3) {
+    const Face& f = m_scene.faces[size_t(hit.face)];
+    const Material& m = m_scene.material_of(f);
+    if (!m.dielectric) {
+        Rgb reflected(0.0);
+        if (m.is_diffuse()) deposit(f, foot, foot_ok, hit.point, power, out, reflected);
+        out.absorbed += power * (Rgb(1.0) - m.specular) - reflected;
+        if (m.is_specular())
+            go_on(s, r, g, depth, f, false, power * m.specular,
+                  (m.specular.x + m.specular.y + m.specular.z) / 3.0, out);
+        return;
+    }
+    const double eta = interface_eta(f.inner, m.ior);
+    double R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
+    Vec3 refracted;
+    if (!refract(dir, f.normal, eta, refracted)) R = 1.0;
+    go_on(s, r, g, depth, f, false, power * R, R, out);
+    if (R < 1.0) go_on(s, r, g, depth, f, true, power * (1.0 - R), 1.0 - R, out);
+}
+
+// A beam on from specular face f, reflected or refracted, carrying `power` (its branch's
+// weight times `weight`).
+void LightBeams::go_on(const Source& s, const Rect& r, const Segment& g, int depth, const Face& f,
+                       bool refract, const Rgb& power, double weight, LightShotResult& out) const {
+    if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
+    if (g.count >= kMaxBounces) {
+        out.absorbed += power;
+        return;
+    }
+    Segment next = g;
+    next.events[next.count++] = {surface_key(f), refract};
+    next.weight *= weight;
+    if (next.weight < kMinWeight) {
         out.lost.cut_beam += power;
         return;
     }
-    const Face& f = m_scene.faces[size_t(hit.face)];
-    const Material& m = m_scene.material_of(f);
-    Rgb reflected(0.0);
-    if (m.is_diffuse()) deposit(f, foot, foot_ok, hit.point, power, out, reflected);
-    out.absorbed += power * (Rgb(1.0) - m.specular) - reflected;
-    if (!m.is_specular()) return;
-    if (g.bounce >= kMaxBounces) {
-        out.absorbed += power * m.specular;
-        return;
-    }
-    // The beam reflected in the face's plane: x -> H x + 2 c n, H = I - 2 n n^T.
-    Segment next;
-    const Mat3 H = Mat3(1.0) - 2.0 * glm::outerProduct(f.normal, f.normal);
-    next.M = H * g.M;
-    next.t = H * g.t + 2.0 * f.plane_offset * f.normal;
-    next.has_start = true;
-    next.n = f.normal;
-    next.c = f.plane_offset;
-    next.bounce = g.bounce + 1;
-    next.mirror = f.id;
-    trace(s, r, next, power * m.specular, depth, out);
+    if (refract) next.medium = f.inner ? -1 : f.material;  // into the glass, or out of it
+    trace(s, r, next, power, depth, out);
 }
 
 void LightBeams::shoot(int64_t k0, int64_t k1, LightShotResult& out) const {

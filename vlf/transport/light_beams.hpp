@@ -22,9 +22,11 @@
 // second order in the footprint size. A leaf beam's footprint on the face its centre meets
 // is clipped against the chart's texels as the field's beams are (clip_footprint_to_grid:
 // over-the-rim parts mirrored back) and rho_d of its power goes to P^N by overlap area;
-// rho_s of it goes on as the beam reflected in that face's plane (its rays continue from
-// the mirror: the affine reflection is composed onto the beam, so a sub-beam of a
-// reflected beam is still an exact part of the light's directions); the rest is absorbed.
+// rho_s of it goes on as the beam reflected at that face (each of its rays traced from the
+// light and reflected exactly, so a sub-beam of a reflected beam is still an exact part of
+// the light's directions); the rest is absorbed. At glass the beam splits by Fresnel's R at
+// its centre ray into a reflected and a refracted beam (Snell, per ray), attenuated inside
+// by Beer-Lambert.
 // Beams that leave the scene escape; beams on a back face are absorbed there. Every root
 // beam's power is booked as emitted, and every watt of it ends in one of those places.
 #pragma once
@@ -68,8 +70,13 @@ class LightBeams {
     // Split levels below a root beam; a point light's leaves are then at most
     // 90 deg / (R x 2^kMaxDepth) across.
     static constexpr int kMaxDepth = 10;
-    // A mirror path ends after this many reflections; what is left is absorbed.
+    // A specular path ends after this many reflections and refractions; what is left is
+    // absorbed.
     static constexpr int kMaxBounces = 16;
+    // A branch of a beam split by glass is followed while its weight (the product of the
+    // reflectances and transmittances on its way) is at least this; the rest is booked as
+    // lost.cut_beam (internal reflections of internal reflections of a ball lens).
+    static constexpr double kMinWeight = 1e-4;
 
   private:
     // One light, or one subfield of a directional light's disc (normalised units).
@@ -83,16 +90,19 @@ class LightBeams {
         Rgb unit_power{0.0};  // point, spot: intensity x scale^2; parallel: E / subfields
         int resolution = 1;   // root beams per side (of each cube face)
     };
-    // The mirrors a beam has been reflected in: virtual = M x + t maps the light's own rays
-    // onto the reflected ones, which start on the last mirror's plane (n . x = c).
+    // The specular surfaces a beam has met, in order: each of its rays is traced from the
+    // light through them (it must meet each one's front, else it is cut), reflected or
+    // refracted exactly at each; so a quarter of a beam is still an exact part of the
+    // light's directions, and a mirror path is an image source of any order.
+    struct Event {
+        int surface = 0;  // surface_key of the faces it met
+        bool refract = false;
+    };
     struct Segment {
-        Mat3 M{1.0};
-        Vec3 t{0.0};
-        bool has_start = false;
-        Vec3 n{0.0};
-        double c = 0.0;
-        int mirror = -1;  // the face it was last reflected in
-        int bounce = 0;
+        Event events[kMaxBounces];
+        int count = 0;
+        int medium = -1;      // the dielectric material it runs inside, or -1
+        double weight = 1.0;  // the product of the reflectances and transmittances so far
     };
     struct Rect {
         int side;  // cube face (point, spot); 0 (directional)
@@ -102,7 +112,8 @@ class LightBeams {
              Vec3& d) const;
     void child_weights(const Source& s, const Rect& r, double w[4]) const;
     // A ray of a beam and what it met (cls: the chart of the front face it meets, -1 none,
-    // -2 a back face, -3 it leaves its mirror's plane beyond the mirror's rim).
+    // -2 a back face, -3 it missed a surface of its segment's events: beyond a mirror's rim,
+    // or it was totally reflected where the beam was refracted).
     struct Traced {
         Vec3 o{0.0}, d{0.0};
         RayHit hit;
@@ -114,8 +125,12 @@ class LightBeams {
     bool footprint(int face, const Vec3 o[5], const Vec3 d[5], Vec3 foot[4]) const;
     double rim_share(int face, const Vec3 foot[4]) const;
     void land(const Source& s, const Rect& r, const Segment& g, int depth, int cls,
-              const RayHit& hit, const Vec3 foot[4], bool foot_ok, const Rgb& power,
+              const RayHit& hit, const Vec3& dir, const Vec3 foot[4], bool foot_ok, Rgb power,
               LightShotResult& out) const;
+    void go_on(const Source& s, const Rect& r, const Segment& g, int depth, const Face& f,
+               bool refract, const Rgb& power, double weight, LightShotResult& out) const;
+    // Faces a beam's rays may meet at one event: one side of one object.
+    int surface_key(const Face& f) const { return 2 * f.object + (f.twin >= 0 && f.twin < f.id); }
     void deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const Vec3& centre,
                  const Rgb& power, LightShotResult& out, Rgb& reflected) const;
 

@@ -6,6 +6,7 @@
 // the unshot maps of the enclosing mirror directions (§4.2-4.3, specular.hpp).
 #include <algorithm>
 
+#include "vlf/core/fresnel.hpp"
 #include "vlf/scene/sealed_areas.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
@@ -76,28 +77,15 @@ Rgb receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f,
     return reflected;
 }
 
-// VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
-// radiance over the window of its rays, gathered later into the unshot maps of the
-// directions enclosing the mirrored one (specular.hpp).
-void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
-                      const Received& r, const Rgb& specular, const std::vector<Rgb>& in,
-                      ChunkResult& res) {
+// The incoming radiance over the window of a specular face's rays in this direction: what
+// a specular source gathers from (specular.hpp).
+SpecularSource source_window(const PassContext& pc, const PassDirection& pd, size_t f,
+                             FragRange frags, const Received& r, const std::vector<Rgb>& in) {
     const DirectionGeometry& g = pd.g;
-    const Face& face = pc.scene.faces[f];
-    const Mat3& rot = pc.rotations[pd.d];
     SpecularSource src;
     src.face = int(f);
-    src.rotation = rot;
+    src.rotation = pc.rotations[pd.d];
     src.resolution = pc.N;
-    src.power = r.power * specular;
-    const int facing = (rot * face.normal).z > 0 ? 1 : -1;
-    const Vec3 incoming = g.psf.omega * double(-facing);  // light travels towards the face
-    src.targets = specular_targets(pc.dirs, face, incoming, pc.coverage, src.target_direction,
-                                   src.target_weight);
-    if (src.targets == 0) {
-        res.lost.grazing_mirror += src.power;  // no PSF can carry it
-        return;
-    }
     src.i0 = r.imin;
     src.j0 = r.jmin;
     src.width = r.imax - r.imin + 1;
@@ -112,7 +100,53 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
             src.covered[at] = 1;
         });
     });
+    return src;
+}
+
+// `power` leaves face `onto`'s front along `outgoing`: src (its window filled) aimed at the
+// enclosing directions and kept, or booked as lost when no direction can carry it.
+void aim(const PassContext& pc, SpecularSource src, int onto, const Vec3& outgoing,
+         const Rgb& power, ChunkResult& res) {
+    if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
+    src.face = onto;
+    src.power = power;
+    src.targets = specular_targets(pc.dirs, pc.scene.faces[size_t(onto)], outgoing, pc.coverage,
+                                   src.target_direction, src.target_weight);
+    if (src.targets == 0) {
+        res.lost.grazing_mirror += power;  // no PSF can carry it
+        return;
+    }
     res.sources.push_back(std::move(src));
+}
+
+// VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
+// radiance over the window of its rays, gathered later into the unshot maps of the
+// directions enclosing the mirrored one (specular.hpp). At glass (docs/propagation.md §13)
+// the Fresnel reflectance R of the direction's angle of incidence is reflected so, and
+// 1 - R is refracted: gathered into the twin's maps (the other side of the interface)
+// around the refracted direction; past the critical angle all of it is reflected.
+void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
+                      const Received& r, const Material& mat, const std::vector<Rgb>& in,
+                      ChunkResult& res) {
+    const Face& face = pc.scene.faces[f];
+    const Mat3& rot = pc.rotations[pd.d];
+    const int facing = (rot * face.normal).z > 0 ? 1 : -1;
+    const Vec3 incoming = pd.g.psf.omega * double(-facing);  // light travels towards the face
+    const Vec3 mirrored = reflect(incoming, face.normal);
+    SpecularSource src = source_window(pc, pd, f, frags, r, in);
+    if (!mat.dielectric) {
+        aim(pc, std::move(src), int(f), mirrored, r.power * mat.specular, res);
+        return;
+    }
+    const double eta = interface_eta(face.inner, mat.ior);
+    const double R = fresnel_dielectric(-glm::dot(incoming, face.normal), eta);
+    Vec3 refracted;
+    if (R < 1.0 && refract(incoming, face.normal, eta, refracted)) {
+        aim(pc, src, face.twin, refracted, r.power * (1.0 - R), res);
+        aim(pc, std::move(src), int(f), mirrored, r.power * R, res);
+    } else {
+        aim(pc, std::move(src), int(f), mirrored, r.power, res);  // total internal reflection
+    }
 }
 
 }  // namespace
@@ -137,6 +171,54 @@ void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res) {
     }
 }
 
+// Beer-Lambert inside glass (docs/propagation.md §13): light arriving on the front of an
+// absorbing dielectric's inner face crossed the glass from its partner fragment; each ray
+// keeps exp(-sigma d) of its power, d the distance between the two planes along the ray.
+void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res) {
+    const DirectionGeometry& g = pd.g;
+    const Scene& scene = pc.scene;
+    bool any = false;
+    for (uint32_t f : g.faces)
+        any |= scene.faces[f].inner && scene.material_of(scene.faces[f]).is_absorbing();
+    if (!any) return;
+    // Which face each slot belongs to (the partner's plane).
+    w.slot_face.assign(g.slots(), 0);
+    for (size_t k = 0; k < g.faces.size(); ++k)
+        for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
+                      [&](const Tile&, const Fragment& fr, uint32_t base) {
+                          std::fill_n(w.slot_face.begin() + base, fr.covered, g.faces[k]);
+                      });
+    const Mat3& rot = pc.rotations[pd.d];
+    const double to_user = 1.0 / scene.normalisation.scale;
+    auto depth = [&](const Face& f, double x, double y) {
+        const Vec3 n = rot * f.normal;
+        return (f.plane_offset - n.x * x - n.y * y) / n.z;
+    };
+    for (size_t k = 0; k < g.faces.size(); ++k) {
+        const Face& face = scene.faces[g.faces[k]];
+        const Material& mat = scene.material_of(face);
+        if (!face.inner || !mat.is_absorbing()) continue;
+        for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
+                      [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+                          tile.edge_table(fr).for_each_ray([&](int u, int v, int j) {
+                              const uint32_t slot = base + uint32_t(j);
+                              const int32_t p = g.partner[slot];
+                              const Rgb arriving = w.in[slot];
+                              if (p < 0 || (arriving.x <= 0 && arriving.y <= 0 && arriving.z <= 0))
+                                  return;
+                              const double x = (2.0 * (tile.s * pc.m + u) + 1.0) / pc.N - 1.0;
+                              const double y = (2.0 * (tile.t * pc.m + v) + 1.0) / pc.N - 1.0;
+                              const Face& from = scene.faces[w.slot_face[uint32_t(p)]];
+                              const double d =
+                                  std::abs(depth(face, x, y) - depth(from, x, y)) * to_user;
+                              const Rgb kept = arriving * glm::exp(-mat.absorption * d);
+                              res.absorbed += arriving - kept;
+                              w.in[slot] = kept;
+                          });
+                      });
+    }
+}
+
 // VLF §4.1 line 10, §4.2-4.3, face by face: what a face receives is absorbed by
 // (1 - rho_d - rho_s), rho_d of it goes to P^N, rho_s of it becomes a specular source.
 void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
@@ -152,8 +234,9 @@ void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch&
         // varies) nor specularly is absorbed.
         const Rgb reflected =
             mat.is_diffuse() ? receive_diffuse(pc, g, f, frags, mat.diffuse, w.in, res) : Rgb(0.0);
-        res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
-        if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat.specular, w.in, res);
+        // Glass absorbs nothing at its faces (R + T = 1); inside, see attenuate_step.
+        if (!mat.dielectric) res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
+        if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat, w.in, res);
     }
 }
 

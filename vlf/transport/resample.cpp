@@ -1,6 +1,7 @@
 #include "vlf/transport/resample.hpp"
 
 #include "vlf/core/error.hpp"
+#include "vlf/core/fresnel.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/field/lightmap.hpp"
 #include "vlf/field/psf.hpp"
@@ -33,33 +34,72 @@ bool trace_from(const RayCaster& caster, int from, const Vec3& origin, const Vec
 // Q at q; the light it sends towards the mirror travels along -w, which must leave Q's
 // front: n_Q.(-w) > 0, i.e. n_Q.w < 0 — otherwise the ray met Q's back, which sends
 // nothing. At Q the same step repeats with t <- -w while Q is specular.
-Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
-                           const std::vector<Rgb>& radiance, const std::vector<size_t>& offset,
-                           int face, const Vec3& point, const Vec3& travel, int max_bounces) {
-    Rgb value(0.0), throughput(1.0);
-    int cur = face;
-    Vec3 p = point, t = travel;
-    for (int bounce = 0;; ++bounce) {
+//
+// Glass adds a second way in: light that leaves a dielectric face's front along t may
+// have come through the interface from behind. A ray reversed along -t refracts into the
+// back medium along w' = refract(-t, n, eta) (eta = n_front / n_back), Fresnel's R is the
+// same both ways, and radiance crossing the interface scales by (n_front / n_back)^2
+// (docs/propagation.md §13): L = R L_reflected + (1 - R) eta^2 L_behind. A path that runs
+// inside absorbing glass keeps exp(-sigma d).
+namespace {
+
+struct PathTracer {
+    const Scene& scene;
+    const RayCaster& caster;
+    const std::vector<Rgb>& radiance;
+    const std::vector<size_t>& offset;
+    int max_bounces;
+
+    // Radiance arriving at p along the look direction w (from the surface it meets);
+    // `inside`: the segment runs through glass of material `medium`.
+    Rgb look(int from, const Vec3& p, const Vec3& w, const Material* medium, double weight,
+             int bounce) const {
+        RayHit hit;
+        if (!trace_from(caster, from, p, w, hit)) return Rgb(0.0);              // escaped
+        if (glm::dot(scene.faces[hit.face].normal, w) >= 0.0) return Rgb(0.0);  // back face
+        Rgb kept(1.0);
+        if (medium && medium->is_absorbing())
+            kept = glm::exp(-medium->absorption * (hit.t / scene.normalisation.scale));
+        return kept * leaving(hit.face, hit.point, -w, weight, bounce + 1);
+    }
+
+    Rgb leaving(int cur, const Vec3& p, const Vec3& t, double weight, int bounce) const {
         const Face& f = scene.faces[cur];
         const Material& mat = scene.material_of(f);
+        Rgb value(0.0);
         // Own diffuse part (mixed materials add theirs at every bounce); P^T of an emitter
         // holds its emission.
         if (mat.is_diffuse() || mat.is_emitter())
-            value += throughput *
-                     sample_lightmap(scene.chart_of(f), radiance.data() + offset[f.chart], p);
-        if (!mat.is_specular() || bounce >= max_bounces) break;
+            value += sample_lightmap(scene.chart_of(f), radiance.data() + offset[f.chart], p);
+        if (!mat.is_specular() || bounce >= max_bounces || weight < kResampleMinWeight)
+            return value;
         const double tn = glm::dot(t, f.normal);
-        if (tn <= 0.0) break;  // leaving the back: a mirror reflects on its front only
+        if (tn <= 0.0) return value;  // leaving the back: a mirror reflects on its front only
         const Vec3 w = 2.0 * tn * f.normal - t;
-        RayHit hit;
-        if (!trace_from(caster, cur, p, w, hit)) break;               // escaped
-        if (glm::dot(scene.faces[hit.face].normal, w) >= 0.0) break;  // back face
-        throughput *= mat.specular;
-        cur = hit.face;
-        p = hit.point;
-        t = -w;
+        if (!mat.dielectric)
+            return value + mat.specular * look(cur, p, w, nullptr,
+                                               weight * luminance_of(mat.specular), bounce);
+        const double eta = interface_eta(f.inner, mat.ior);
+        const double R = fresnel_dielectric(tn, eta);
+        // The front's medium is the glass when the face is inner.
+        value += R * look(cur, p, w, f.inner ? &mat : nullptr, weight * R, bounce);
+        Vec3 behind;
+        if (R < 1.0 && refract(-t, f.normal, eta, behind))
+            value += ((1.0 - R) * eta * eta) *
+                     look(cur, p, behind, f.inner ? nullptr : &mat, weight * (1.0 - R), bounce);
+        return value;
     }
-    return value;
+
+    static double luminance_of(const Rgb& c) { return (c.x + c.y + c.z) / 3.0; }
+};
+
+}  // namespace
+
+Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
+                           const std::vector<Rgb>& radiance, const std::vector<size_t>& offset,
+                           int face, const Vec3& point, const Vec3& travel, int max_bounces) {
+    const PathTracer tracer{scene, caster, radiance, offset, max_bounces};
+    return tracer.leaving(face, point, travel, 1.0, 0);
 }
 
 void resample_specular(Transport& transport, const RayCaster& caster, int /*threads_unused*/) {

@@ -18,13 +18,17 @@ namespace vlf {
 // Specular bounces followed at most (the 8th surface reached still adds its own diffuse
 // part, nothing beyond it).
 inline constexpr int kResampleMaxBounces = 8;
+// A branch of the specular path tree (glass splits it in two) is followed while its weight
+// (the product of the reflectances and transmittances on the way) is at least this.
+inline constexpr double kResampleMinWeight = 1e-4;
 // Ray origins are moved this far (normalised units) along the traced direction.
 inline constexpr double kResampleEpsilon = 1e-6;
 
 // Radiance (W m^-2 sr^-1) leaving face `face` at `point` (normalised coordinates, on the
 // face) along the unit travel direction `travel` (must leave the face's front side):
 // the face's own diffuse part (bilinear P^T radiance) when it is diffuse or emits, plus
-// rho_s times the radiance arriving along the mirror path, traced recursively through
+// rho_s times the radiance arriving along the mirror path (at glass, Fresnel's R of the
+// reflected and 1 - R of the refracted path, resample.cpp), traced recursively through
 // specular faces until a non-specular face (its bilinear P^T radiance, emission included),
 // an escape or a back face (both 0). `texel_radiance` is texel_radiance(scene, maps) and
 // `texel_offset` is TextureMaps::offset. At most `max_bounces` mirror steps are traced.

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vlf/core/fresnel.hpp"
+
 namespace vlf {
 
 namespace {
@@ -110,6 +112,31 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
                 out.next[tex.begin(hc.id) + size_t(texel)] += diffuse;
             else
                 diffuse = Rgb(0.0);  // no texel to hold it: absorbed below
+            if (m.dielectric) {
+                // Glass (docs/propagation.md §13): the ray goes on whole, reflected with
+                // Fresnel's probability R, else refracted (a fixed hash of the ray and the
+                // bounce decides, so the shot stays deterministic), attenuated inside.
+                if (bounce >= kMaxMirrorBounces) {
+                    out.absorbed += carried;
+                    break;
+                }
+                if (f.inner && m.is_absorbing()) {
+                    const Rgb kept =
+                        carried * glm::exp(-m.absorption * (hit.t / scene.normalisation.scale));
+                    out.absorbed += carried - kept;
+                    carried = kept;
+                }
+                const double eta = interface_eta(f.inner, m.ior);
+                const double R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
+                Vec3 refracted;
+                const double u = radical_inverse(k * 17 + uint64_t(bounce) + 1, 11);
+                if (u >= R && refract(dir, f.normal, eta, refracted))
+                    dir = refracted;
+                else
+                    dir = glm::reflect(dir, f.normal);
+                from = hit.point;
+                continue;
+            }
             const Rgb reflected = carried * m.specular;
             out.absorbed += carried - diffuse - reflected;
             if (!m.is_specular() || bounce >= kMaxMirrorBounces) {

@@ -9,12 +9,11 @@
 
 namespace vlf {
 
-int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
+int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& outgoing,
                      const Coverage& coverage, std::array<int, 3>& dir,
                      std::array<double, 3>& weight) {
     const Vec3 n = f.normal;
-    const Vec3 out = incoming_travel - 2.0 * glm::dot(incoming_travel, n) * n;  // mirror
-    const EnclosingTriangle tri = dirs.enclosing(glm::normalize(out));
+    const EnclosingTriangle tri = dirs.enclosing(glm::normalize(outgoing));
     int k = 0;
     double sum = 0.0;
     for (int i = 0; i < 3; ++i) {

@@ -27,7 +27,7 @@
 namespace vlf {
 
 struct SpecularSource {
-    int face = 0;
+    int face = 0;  // the face whose unshot maps it is gathered into (a dielectric: either side)
     Mat3 rotation{1.0};  // of the source PSF (true or perturbed direction)
     int resolution = 0;  // of the source PSF's ray grid (N, or N * supersample)
     int i0 = 0, j0 = 0;  // window origin in source pixels
@@ -40,9 +40,10 @@ struct SpecularSource {
     std::array<double, 3> target_weight{};
 };
 
-// The reflected travel direction's enclosing PSF directions on which face `f` shows its
-// front and has rays (`coverage(d, f)`), weights renormalised; returns how many.
-int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& incoming_travel,
+// The enclosing PSF directions of `outgoing` (a travel direction leaving face `f`'s front:
+// the mirrored direction, or the refracted one leaving a dielectric's twin) on which `f`
+// shows its front and has rays (`coverage(d, f)`), weights renormalised; returns how many.
+int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& outgoing,
                      const Coverage& coverage, std::array<int, 3>& dir,
                      std::array<double, 3>& weight);
 

@@ -49,6 +49,7 @@ void run_direction(const PassContext& pc, const GeometryInputs& in, const Geomet
     send_step(pc, pd, w, res);
     // 3. Exchange along every ray (§4.1 lines 5-8).
     exchange_step(pd, w, res);
+    attenuate_step(pc, pd, w, res);  // inside absorbing glass
     // 4. Receivers: P^N, absorption, specular sources (§4.1 line 10, §4.2-4.3).
     receive_step(pc, pd, w, res);
     res.times.transfer += transfer.seconds();

@@ -101,6 +101,7 @@ struct Scratch {
     std::vector<int> parent_count;
     std::vector<std::pair<uint32_t, uint32_t>> by_chart;  // (chart, index into faces)
     std::vector<uint32_t> present;                        // one chart's part of by_chart
+    std::vector<uint32_t> slot_face;                      // attenuate_step: per slot, its face
 };
 
 // What one chunk of directions adds to the pass; reduced in chunk order.
@@ -192,6 +193,8 @@ struct PassDirection {
 void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res);
 // VLF §4.1 lines 5-8 (receive_step.cpp): w.out along each ray to its partner's w.in.
 void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res);
+// Beer-Lambert inside glass (receive_step.cpp): w.in of absorbing glass's inner faces.
+void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res);
 // VLF §4.1 line 10, §4.2-4.3 (receive_step.cpp): the receivers take w.in.
 void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
                   ChunkResult& res);

@@ -89,7 +89,7 @@ double mean_reflectance(const Scene& scene) {
     for (const Face& f : scene.faces) {
         const Material& mat = scene.material_of(f);
         area += f.area;
-        refl += f.area * luminance(mat.diffuse + mat.specular);
+        refl += f.area * (mat.dielectric ? 1.0 : luminance(mat.diffuse + mat.specular));
     }
     return area > 0 ? refl / area : 0.0;
 }
