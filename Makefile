@@ -7,7 +7,7 @@ JOBS        ?= $(shell nproc)
 SCENE       ?= scenes/cornell-mirrors.json
 DEMO_ARGS   ?= --quality preview
 OUT         ?= out
-ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli|Texture|LightTransport
+ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli|Texture|LightTransport|GlassTransport|RenderGlass
 
 .PHONY: demo test deps build build-asan test-asan bench clean format format-check
 

@@ -182,7 +182,7 @@ TEST(SceneImport, MtlIllumFiveIsAMirrorAndGlassIsNoted) {
     expect_rgb(chrome.specular, {0.95, 0.95, 0.95});
     expect_rgb(chrome.diffuse, {0.01, 0.01, 0.01});
     EXPECT_TRUE(has_note(s, "material 'rightSphere': left out: a Phong highlight"));
-    EXPECT_TRUE(has_note(s, "illum 7 (glass: no dielectrics yet)"));
+    EXPECT_TRUE(has_note(s, "illum 7 (glass: map a scene dielectric material onto it)"));
 }
 
 // ---- glTF: materials, node transforms, cameras ------------------------------------------

@@ -189,7 +189,8 @@ std::string light_ledger_name(const ::testing::TestParamInfo<LightLedgerOptions>
 INSTANTIATE_TEST_SUITE_P(
     Options, TransportLightLedger,
     ::testing::Combine(::testing::Values(LedgerCase{"tests/scenes/lights-mirror-room.json", true},
-                                         LedgerCase{"tests/scenes/lights-open-room.json", false}),
+                                         LedgerCase{"tests/scenes/lights-open-room.json", false},
+                                         LedgerCase{"tests/scenes/glass-room.json", true}),
                        ::testing::Values(0, 1), ::testing::Values(1, 2),
                        ::testing::Values(0.0, 0.7), ::testing::Bool()),
     light_ledger_name);

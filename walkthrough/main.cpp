@@ -73,6 +73,7 @@ struct Options {
     double fov = 0.0, exposure = 0.0;
     int spp = 64, threads = 0, max_depth = 16, pixel_samples = 1;
     uint64_t seed = 1;
+    double light_paths = 1.0;
     bool interactive = false;
 };
 
@@ -165,6 +166,10 @@ int run(const Options& o) {
     if (o.pixel_samples != 1 && o.interactive)
         throw vlf::ParameterError("--pixel-samples: not used by --interactive");
     rs.spp = o.spp;
+    if (!(o.light_paths >= 0.0 && o.light_paths <= 1e3))
+        throw vlf::ParameterError(
+            fmt::format("--light-paths: {} outside 0..1000 per eye path", o.light_paths));
+    rs.light_paths_per_sample = o.light_paths;
     rs.pixel_samples = o.pixel_samples;
     rs.max_depth = o.max_depth;
     rs.seed = o.seed;
@@ -266,6 +271,10 @@ int main(int argc, char** argv) {
     app.add_option("--mode", o.mode, "rays | texture | raytrace | pathtrace")
         ->capture_default_str();
     app.add_option("--spp", o.spp, "Samples per pixel (pathtrace)")->capture_default_str();
+    app.add_option("--light-paths", o.light_paths,
+                   "Pathtrace: light paths from delta lights per eye path (their caustics "
+                   "through glass and mirrors; 0 = none)")
+        ->capture_default_str();
     app.add_option("--pixel-samples", o.pixel_samples,
                    "K: KxK rays per pixel, box-filtered (lookup modes; 1 = pixel centre)")
         ->capture_default_str();

@@ -1,7 +1,7 @@
 // geometry_bin.cpp — faces and charts as binary arrays (geometry_bin.hpp).
 //
 // Layout (little-endian, no padding):
-//   "VLFGEO01"                         8 bytes
+//   "VLFGEO02"                         8 bytes (01: without the vertex normals at the end)
 //   u64 faces F, charts C, vertices V, texels T
 //   faces:  i32 object[F], material[F], twin[F], chart[F]; u32 vertex_begin[F+1];
 //           u64 inner_edges[F]; f64 normal[3F], plane_offset[F], area[F]; f64 vertex[3V]
@@ -9,6 +9,8 @@
 //   charts: i32 material[C]; u8 planar[C]; f64 normal[3C], area[C]; u32 face_begin[C+1];
 //           i32 face[F]; f64 origin[3C], axis_u[3C], axis_v[3C], size[C];
 //           i32 width[C], height[C]; f64 texel_area[T]
+//   vertex normals (Face::vertex_normals): u64 normals S; u8 smooth[F] (1: the face has one
+//           per vertex); f64 normal[3S], the smooth faces' in face order
 #include "vlf/bake/geometry_bin.hpp"
 
 #include <fmt/format.h>
@@ -30,7 +32,7 @@ namespace vlf {
 
 namespace {
 
-constexpr char kMagic[8] = {'V', 'L', 'F', 'G', 'E', 'O', '0', '1'};
+constexpr char kMagic[8] = {'V', 'L', 'F', 'G', 'E', 'O', '0', '2'};
 constexpr int kMaxTexelsPerSide = 65536;
 
 static_assert(sizeof(double) == 8 && std::numeric_limits<double>::is_iec559);
@@ -58,9 +60,22 @@ class Writer {
     size_t m_at = 0;
 };
 
-// The file's size from its counts (the layout above).
-uint64_t file_bytes(uint64_t F, uint64_t C, uint64_t V, uint64_t T) {
-    return 40 + F * 72 + 4 + V * 24 + C * 129 + 4 + T * 8;
+// The file's size from its counts (the layout above), S vertex normals.
+uint64_t file_bytes(uint64_t F, uint64_t C, uint64_t V, uint64_t T, uint64_t S) {
+    return 40 + F * 72 + 4 + V * 24 + C * 129 + 4 + T * 8 + 8 + F + S * 24;
+}
+
+uint64_t normal_count(const Scene& s) {
+    uint64_t n = 0;
+    for (const Face& f : s.faces) n += f.vertex_normals.size();
+    return n;
+}
+
+void write_normals(Writer& w, const Scene& s) {
+    w.put(normal_count(s));
+    for (const Face& f : s.faces) w.put(uint8_t(f.vertex_normals.empty() ? 0 : 1));
+    for (const Face& f : s.faces)
+        for (const Vec3& n : f.vertex_normals) w.put_vec(n);
 }
 
 void write_faces(Writer& w, const Scene& s) {
@@ -148,6 +163,43 @@ void read_faces(BinaryReader& r, Scene& s, size_t F, size_t C, uint64_t V) {
     }
 }
 
+// Vertex normals: one per vertex of a smooth face, unit, on its front side; a twin's are
+// its face's negated, in reverse order (the loader makes them so).
+void read_normals(BinaryReader& r, Scene& s, uint64_t S) {
+    if (r.get<uint64_t>("the vertex normal count") != S)
+        r.fail("the vertex normal count does not match the file's size");
+    uint64_t listed = 0;
+    for (Face& f : s.faces) {
+        const uint8_t smooth = r.get<uint8_t>("face smooth");
+        if (smooth > 1)
+            r.fail(fmt::format("face smooth of {} is {} (must be 0 or 1)", f.id, smooth));
+        if (smooth) f.vertex_normals.resize(f.vertices.size());
+        listed += f.vertex_normals.size();
+    }
+    if (listed != S)
+        r.fail(
+            fmt::format("the smooth faces have {} vertices, the file holds {} normals", listed, S));
+    for (Face& f : s.faces)
+        for (Vec3& n : f.vertex_normals) {
+            n = r.vec("face vertex normal", f.id);
+            if (!(std::abs(glm::length(n) - 1.0) <= 1e-9))
+                r.fail(fmt::format("face vertex normal of {} is not unit", f.id));
+            if (!(glm::dot(n, f.normal) > 0))
+                r.fail(
+                    fmt::format("face vertex normal of {} points to the back of the face", f.id));
+        }
+    for (const Face& f : s.faces) {
+        if (f.twin < 0) continue;
+        const std::vector<Vec3>& a = f.vertex_normals;
+        const std::vector<Vec3>& b = s.faces[size_t(f.twin)].vertex_normals;
+        bool mirrored = a.size() == b.size();
+        for (size_t k = 0; mirrored && k < a.size(); ++k) mirrored = a[k] == -b[a.size() - 1 - k];
+        if (!mirrored)
+            r.fail(fmt::format("face vertex normals of {}: its twin {} does not reverse them", f.id,
+                               f.twin));
+    }
+}
+
 void read_charts(BinaryReader& r, Scene& s, size_t C, uint64_t T) {
     const size_t F = s.faces.size();
     s.charts.assign(C, Chart());
@@ -197,7 +249,8 @@ void write_geometry(const std::string& file, const Scene& scene) {
     uint64_t vertices = 0, texels = 0;
     for (const Face& f : scene.faces) vertices += f.vertices.size();
     for (const Chart& c : scene.charts) texels += c.texel_area.size();
-    Writer w(file_bytes(scene.faces.size(), scene.charts.size(), vertices, texels));
+    Writer w(
+        file_bytes(scene.faces.size(), scene.charts.size(), vertices, texels, normal_count(scene)));
     for (char c : kMagic) w.put(c);
     VLF_CHECK(vertices < (uint64_t(1) << 32) && scene.faces.size() < (size_t(1) << 31));
     w.put(uint64_t(scene.faces.size()));
@@ -206,6 +259,7 @@ void write_geometry(const std::string& file, const Scene& scene) {
     w.put(texels);
     write_faces(w, scene);
     write_charts(w, scene);
+    write_normals(w, scene);
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
     out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
     out.close();
@@ -214,8 +268,12 @@ void write_geometry(const std::string& file, const Scene& scene) {
 
 void read_geometry(const std::string& file, Scene& scene) {
     BinaryReader r(file);
-    for (char c : kMagic)
-        if (r.get<char>("the header") != c) r.fail("not a VLF geometry file (bad magic)");
+    char magic[8];
+    for (char& c : magic) c = r.get<char>("the header");
+    if (std::memcmp(magic, kMagic, 6) != 0) r.fail("not a VLF geometry file (bad magic)");
+    if (std::memcmp(magic, kMagic, 8) != 0)
+        r.fail(fmt::format("geometry format {} is not supported (this build reads {})",
+                           std::string(magic + 6, 2), std::string(kMagic + 6, 2)));
     const uint64_t F = r.get<uint64_t>("the header"), C = r.get<uint64_t>("the header");
     const uint64_t V = r.get<uint64_t>("the header"), T = r.get<uint64_t>("the header");
     // The counts fix the file's size: a header that does not match it is refused before
@@ -224,12 +282,18 @@ void read_geometry(const std::string& file, Scene& scene) {
         V >= (uint64_t(1) << 32) || T < C || T > (uint64_t(1) << 40))
         r.fail(fmt::format("implausible counts: {} faces, {} charts, {} vertices, {} texels", F, C,
                            V, T));
-    const uint64_t expect = file_bytes(F, C, V, T);
-    if (expect != r.size())
-        r.fail(fmt::format("{} bytes, {} faces, {} charts, {} vertices and {} texels take {}{}",
-                           r.size(), F, C, V, T, expect, r.size() < expect ? " (truncated)" : ""));
+    // The vertex normals at the end are what the rest leaves, S x 24 bytes: at most V.
+    const uint64_t flat = file_bytes(F, C, V, T, 0);
+    const uint64_t S = r.size() > flat ? (r.size() - flat) / 24 : 0;
+    const uint64_t expect = file_bytes(F, C, V, T, S);
+    if (expect != r.size() || S > V)
+        r.fail(fmt::format(
+            "{} bytes, {} faces, {} charts, {} vertices and {} texels take {} and 24 per vertex "
+            "normal (at most {}){}",
+            r.size(), F, C, V, T, flat, V, r.size() < flat ? " (truncated)" : ""));
     read_faces(r, scene, size_t(F), size_t(C), V);
     read_charts(r, scene, size_t(C), T);
+    read_normals(r, scene, S);
     r.expect_end();
 }
 

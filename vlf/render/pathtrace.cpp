@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
+#include "vlf/render/glass_vertex.hpp"
+#include "vlf/render/light_tracer.hpp"
 
 namespace vlf {
 
@@ -24,6 +27,12 @@ uint64_t splitmix64(uint64_t& x) {
 
 double mean(const Rgb& c) {
     return (c.x + c.y + c.z) / 3.0;
+}
+
+// An ideal mirror face (rho_s > 0): is_specular() holds for glass too, which reflects by
+// Fresnel instead and is no image-source mirror.
+bool is_mirror(const Material& m) {
+    return !m.dielectric && (m.specular.x > 0 || m.specular.y > 0 || m.specular.z > 0);
 }
 
 // Height of p above face f's plane (normalised units; > 0 on its front side).
@@ -56,6 +65,13 @@ bool partly_in_front(const Face& a, const Face& b) {
 }
 
 }  // namespace
+
+bool russian_roulette(Rgb& beta, Pcg32& rng) {
+    const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
+    if (!(q > 0.0) || rng.uniform() >= q) return false;
+    beta /= q;
+    return true;
+}
 
 Pcg32::Pcg32(uint64_t seed, uint64_t stream) {
     uint64_t s = seed ^ (stream * 0xd1342543de82ef95ULL);
@@ -91,7 +107,7 @@ PathTracer::PathTracer(const Scene& scene, const RayCaster& caster)
     }
     m_scale2 = scene.normalisation.scale * scene.normalisation.scale;
     for (const Face& f : scene.faces)
-        if (scene.material_of(f).is_specular()) m_mirrors.push_back(f.id);
+        if (is_mirror(scene.material_of(f))) m_mirrors.push_back(f.id);
     // Second-order image sources: the ordered pairs (a, b) where light can go from mirror
     // b to mirror a, b's front facing a's and a's facing b's. None for a convex mirror
     // (a tessellated sphere seen from outside); a concave one may give too many (see
@@ -104,7 +120,11 @@ PathTracer::PathTracer(const Scene& scene, const RayCaster& caster)
                 m_mirror_pairs.push_back(a);
                 m_mirror_pairs.push_back(b);
             }
-        if (m_mirror_pairs.size() > 2 * size_t(kMaxMirrorPairs)) m_mirror_pairs.clear();
+        if (m_mirror_pairs.size() > 2 * size_t(kMaxMirrorPairs)) {
+            m_mirror_pairs.clear();
+        } else {
+            m_image_order = kMaxMirrorOrder;  // every chain of two mirrors is covered
+        }
     }
 }
 
@@ -266,6 +286,18 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
         const double cos_hit = -glm::dot(dir, n);
         if (cos_hit <= 0.0) break;  // back side: absorbs, emits nothing
         const Material& m = m_scene.material_of(f);
+        beta *= glass_transmittance(m_scene, f, hit.t);  // the segment ran inside glass
+        if (m.dielectric) {  // Fresnel-chosen reflection or refraction; no NEE here
+            const GlassStep g = glass_scatter(m_scene, f, m, hit.point, dir, rng.uniform(), kEps);
+            dir = g.dir;
+            o = g.origin;
+            bsdf_pdf = 0.0;  // a delta lobe: emission seen next counts in full
+            // No Russian roulette at glass: its weight is 1, and a survival probability
+            // capped at 0.95 would let paths caught by total internal reflection grow by
+            // 1/0.95 a bounce into fireflies; they end at the next diffuse vertex, or at
+            // kMaxPathVertices.
+            continue;
+        }
         if (m.is_emitter()) {
             double w = 1.0;
             // MIS against next-event estimation from the previous vertex (which had none
@@ -300,11 +332,7 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
             bsdf_pdf = 0.0;
         }
         o = x + kEps * n;
-        if (vertex >= 3) {  // Russian roulette
-            const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
-            if (!(q > 0.0) || rng.uniform() >= q) break;
-            beta /= q;
-        }
+        if (vertex >= 3 && !russian_roulette(beta, rng)) break;
     }
     return L;
 }
@@ -327,6 +355,27 @@ Rgb PathTracer::pixel(const PinholeCamera& camera, int x, int y, int width, int 
         sum += radiance(camera.origin(), camera.direction(x + sx, y + sy), rng);
     }
     return sum / double(std::max(1, spp));
+}
+
+Image PathTracer::render(const PinholeCamera& camera, const PathTraceSettings& s) const {
+    Image im;
+    im.width = s.width;
+    im.height = s.height;
+    im.pixels.assign(size_t(s.width) * size_t(s.height), Rgb(0.0));
+    parallel_for(0, s.height, [&](long y) {
+        for (int x = 0; x < s.width; ++x)
+            im.at(x, int(y)) = pixel(camera, x, int(y), s.width, s.spp, s.seed);
+    });
+    if (s.light_paths_per_sample > 0.0) {
+        const LightTracer lights(m_scene, m_caster, m_image_order);
+        if (lights.needed()) {
+            const double n = s.light_paths_per_sample * double(s.width) * double(s.height) *
+                             double(std::max(1, s.spp));
+            lights.splat(camera, s.width, s.height, static_cast<long long>(std::ceil(n)), s.seed,
+                         im);
+        }
+    }
+    return im;
 }
 
 }  // namespace vlf

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "vlf/core/error.hpp"
+#include "vlf/core/fresnel.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/field/lightmap.hpp"
@@ -22,6 +23,16 @@ namespace {
 // pathtrace.cpp for the choice).
 constexpr double kEps = 1e-5;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// raytrace: a Fresnel split (glass) follows a branch only while its throughput, the product
+// of the R, 1 - R, mirror reflectances and absorption on the way from the eye, is at least
+// this in some channel. At glass's R = 0.04 that keeps the paths of up to two internal
+// reflections (weight ~1.5e-3) and drops the third (~6e-5): the slab test's T is the
+// series (1 - R)^2 (1 + R^2) to within R^4.
+constexpr double kMinBranchWeight = 1e-4;
+
+double max_channel(const Rgb& c) {
+    return std::max({c.x, c.y, c.z});
+}
 
 }  // namespace
 
@@ -99,21 +110,69 @@ struct Renderer::Impl {
         return (m.is_diffuse() || m.is_emitter()) ? lightmap(f, x) : Rgb(0.0);
     }
 
-    // VLF §6.3: diffuse from P^T, mirrors by recursive reflection (iterative here: the
-    // mirror's reflectance multiplies what its reflected ray sees), up to max_depth bounces.
-    Rgb raytrace(Vec3 o, Vec3 dir, int max_depth) const {
+    // VLF §6.3: diffuse from P^T, specular faces by recursive ray tracing up to max_depth
+    // specular events. A mirror: its reflectance times what the reflected ray sees
+    // (iterative). Glass (Material::dielectric): the Fresnel split, R times the reflected
+    // ray's radiance plus (1 - R) times the refracted ray's (core/fresnel.hpp; R = 1 on total
+    // internal reflection), each branch followed while its throughput is at least
+    // kMinBranchWeight; Beer-Lambert absorption on every segment inside glass. Reflection
+    // and refraction turn about the shading normal (Scene::shading_normal); a direction it
+    // would send through the face's geometric plane is taken about the geometric normal.
+    Rgb raytrace(const Vec3& o, const Vec3& dir, int max_depth) const {
+        return trace(o, glm::normalize(dir), 0, max_depth, Rgb(1.0), nullptr, o);
+    }
+
+    // `dir` unit; `depth` specular events so far; `weight` the throughput from the eye to o
+    // (for the branch cut only); `medium` the glass the ray travels in, or null for air.
+    // A ray leaves a surface from kEps off it (so as not to meet it again); the length it
+    // travels through glass is taken from the surface point itself, `from`.
+    Rgb trace(Vec3 o, Vec3 dir, int depth, int max_depth, Rgb weight, const Material* medium,
+              Vec3 from) const {
         Rgb L(0.0), beta(1.0);
-        for (int depth = 0;; ++depth) {
+        for (;; ++depth) {
             RayHit hit;
             if (!caster.intersect(o, dir, 0.0, kInf, hit)) break;
             const Face& f = scene.faces[hit.face];
             if (glm::dot(dir, f.normal) >= 0.0) break;  // back side: black
-            L += beta * diffuse_part(f, hit.point);
             const Material& m = scene.material_of(f);
+            // An inner face met from air: the ray started inside the glass (an eye in it).
+            if (!medium && f.inner) medium = &m;
+            if (medium && medium->is_absorbing()) {  // Beer-Lambert, per user unit of length
+                const double length = glm::length(hit.point - from) / scene.normalisation.scale;
+                beta *= glm::exp(-medium->absorption * length);
+            }
+            L += beta * diffuse_part(f, hit.point);
             if (!m.is_specular() || depth >= max_depth) break;
-            beta *= m.specular;
-            dir = dir - 2.0 * glm::dot(dir, f.normal) * f.normal;
-            o = hit.point + kEps * f.normal;
+            const Vec3 ns = scene.shading_normal(f, hit.point);
+            Vec3 r = reflect(dir, ns);
+            if (glm::dot(r, f.normal) <= 0.0) r = reflect(dir, f.normal);
+            r = glm::normalize(r);
+            const Vec3 above = hit.point + kEps * f.normal, below = hit.point - kEps * f.normal;
+            if (!m.dielectric) {
+                beta *= m.specular;
+                o = above;
+                from = hit.point;
+                dir = r;
+                continue;
+            }
+            const double eta = interface_eta(f.inner, m.ior);
+            double R = fresnel_dielectric(-glm::dot(dir, ns), eta);
+            Vec3 t;
+            if (R < 1.0 && !(refract(dir, ns, eta, t) && glm::dot(t, f.normal) < 0.0)) {
+                // The shading normal would refract along or out of the face: use the plane's.
+                R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
+                if (R < 1.0 && !refract(dir, f.normal, eta, t)) R = 1.0;
+            }
+            const Rgb through = weight * beta * (1.0 - R);
+            if (R < 1.0 && max_channel(through) >= kMinBranchWeight)
+                L += beta * (1.0 - R) *
+                     trace(below, t, depth + 1, max_depth, through, f.inner ? nullptr : &m,
+                           hit.point);
+            beta *= R;
+            if (max_channel(weight * beta) < kMinBranchWeight) break;
+            o = above;
+            from = hit.point;
+            dir = r;
         }
         return L;
     }
@@ -213,6 +272,9 @@ Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
     if (s.max_depth < 0) throw ParameterError("max_depth: must be >= 0");
     if (s.pixel_samples < 1) throw ParameterError("--pixel-samples: must be at least 1");
     const PinholeCamera cam(camera, m_bake.scene.normalisation, s.width, s.height);
+    if (s.mode == RenderMode::Pathtrace)  // eye paths, and the light tracer's caustics
+        return m_impl->tracer.render(cam,
+                                     {s.width, s.height, s.spp, s.seed, s.light_paths_per_sample});
     Image im;
     im.width = s.width;
     im.height = s.height;
@@ -237,10 +299,6 @@ Image Renderer::render(const Camera& camera, const RenderSettings& s) const {
     parallel_for(0, s.height, [&](long y) {
         for (int x = 0; x < s.width; ++x) {
             Rgb& px = im.at(x, int(y));
-            if (s.mode == RenderMode::Pathtrace) {
-                px = r.tracer.pixel(cam, x, int(y), s.width, s.spp, s.seed);
-                continue;
-            }
             Rgb sum(0.0);
             for (int j = 0; j < k; ++j)
                 for (int i = 0; i < k; ++i) sum += shade(x + (i + 0.5) / k, y + (j + 0.5) / k);

@@ -6,8 +6,11 @@
 //             across directions by spherical barycentric weights; P^T where a face has no
 //             stored rays (diffuse faces unless --store-all-rays);
 //   Texture   §6.2: diffuse from P^T (bilinear), specular faces as in Rays;
-//   Raytrace  §6.3: diffuse from P^T, specular by recursive mirror reflection until a
-//             diffuse surface;
+//   Raytrace  §6.3: diffuse from P^T, specular by recursive ray tracing until a diffuse
+//             surface: mirrors reflect, glass splits into the Fresnel-weighted reflected
+//             and refracted rays (total internal reflection, Beer-Lambert absorption
+//             inside), both about the smooth shading normal (Scene::shading_normal);
+//             Rays and Texture show glass, as mirrors, from its outer faces' stored L_T;
 //   Pathtrace an unbiased Monte-Carlo reference of the same scene (same materials and
 //             Lambertian emitters), the ground truth of the accuracy tests.
 #pragma once
@@ -42,8 +45,12 @@ struct RenderSettings {
     // y + (j+0.5)/k), averaged (a box filter over the pixel's area, the footprint of the
     // path tracer's pixels). 1 = one ray through the pixel centre. Not used by pathtrace.
     int pixel_samples = 1;
-    int max_depth = 16;  // mirror bounces (raytrace) / path length (pathtrace)
+    int max_depth = 16;  // specular events (raytrace: mirror bounces, glass interfaces) /
+                         // path length (pathtrace)
     uint64_t seed = 1;   // pathtrace random streams, seeded per pixel
+    // Pathtrace: light paths from the delta lights per eye path, for the caustics the eye
+    // cannot sample (PathTraceSettings::light_paths_per_sample).
+    double light_paths_per_sample = 1.0;
 };
 
 class Renderer {

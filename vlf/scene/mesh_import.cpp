@@ -192,6 +192,55 @@ void check_ply_header(const std::string& path) {
     }
 }
 
+namespace {
+
+// An OBJ file's normals belong to face corners (`f v/vt/vn`), OpenMesh's to vertices: a
+// vertex whose corners name different normals (a hard edge on shared vertices) would keep
+// one of them. Returns why the normals cannot be kept per vertex, or "".
+std::string obj_corner_normal_conflict(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::vector<Vec3> vn;
+    std::vector<long> chosen;  // per vertex: its normal's index, -1 none yet
+    long vertices = 0;
+    for (size_t number = 1; std::getline(in, line); ++number) {
+        if (line.rfind("v ", 0) == 0 || line.rfind("v\t", 0) == 0) {
+            ++vertices;
+        } else if (line.rfind("vn", 0) == 0 && line.size() > 2 && std::isspace(line[2])) {
+            std::istringstream ls(line.substr(2));
+            Vec3 n(0.0);
+            ls >> n.x >> n.y >> n.z;
+            vn.push_back(n);
+        } else if (line.rfind("f ", 0) == 0 || line.rfind("f\t", 0) == 0) {
+            std::istringstream words(line.substr(2));
+            for (std::string w; words >> w;) {
+                if (w[0] == '#') break;
+                const size_t a = w.find('/');
+                if (a == std::string::npos) continue;
+                const size_t b = w.find('/', a + 1);
+                if (b == std::string::npos || b + 1 >= w.size()) continue;
+                long v = std::strtol(w.c_str(), nullptr, 10);
+                long n = std::strtol(w.c_str() + b + 1, nullptr, 10);
+                v = v < 0 ? vertices + v : v - 1;
+                n = n < 0 ? long(vn.size()) + n : n - 1;
+                if (v < 0 || n < 0 || size_t(n) >= vn.size()) continue;
+                if (chosen.size() <= size_t(v)) chosen.resize(size_t(v) + 1, -1);
+                long& c = chosen[size_t(v)];
+                if (c < 0)
+                    c = n;
+                else if (c != n && vn[size_t(c)] != vn[size_t(n)])
+                    return fmt::format(
+                        "vertex {} has different normals in different faces (line {}; a hard "
+                        "edge: \"type\": \"import\" keeps normals per face corner)",
+                        v + 1, number);
+            }
+        }
+    }
+    return "";
+}
+
+}  // namespace
+
 bool is_supported_mesh_file(const std::string& path) {
     const std::string ext = lower_extension(path);
     return ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl";
@@ -211,12 +260,15 @@ ImportedMesh import_mesh(const std::string& path) {
 
     ReadMesh mesh;
     std::string log;
-    bool ok = false;
+    bool ok = false, has_normals = false;
     {
         std::lock_guard<std::mutex> lock(g_openmesh_mutex);
         CaptureStderr capture;
-        OpenMesh::IO::Options opt;
+        mesh.request_vertex_normals();
+        OpenMesh::IO::Options opt =
+            ext == ".stl" ? OpenMesh::IO::Options::Default : OpenMesh::IO::Options::VertexNormal;
         ok = OpenMesh::IO::read_mesh(mesh, path, opt);
+        has_normals = ok && ext != ".stl" && opt.vertex_has_normal();
         log = capture.text();
     }
     auto first_line = [&](const std::string& needle) {
@@ -247,6 +299,16 @@ ImportedMesh import_mesh(const std::string& path) {
         out.faces.push_back(std::move(f));
     }
     if (out.faces.empty()) throw Error(fmt::format("mesh file '{}' has no faces", path));
+    if (has_normals) {
+        out.normals_left_out = ext == ".obj" ? obj_corner_normal_conflict(path) : "";
+        if (out.normals_left_out.empty()) {
+            out.normals.reserve(mesh.n_vertices());
+            for (auto vh : mesh.vertices()) {
+                const auto& n = mesh.normal(vh);
+                out.normals.emplace_back(n[0], n[1], n[2]);
+            }
+        }
+    }
     return out;
 }
 

@@ -1,6 +1,6 @@
 // mesh_import.hpp — polygon meshes from files (OBJ, PLY, OFF, STL) through OpenMesh's
-// readers (DESIGN §2, §3). Only positions and face outlines are read; the scene loader
-// checks and transforms them.
+// readers (DESIGN §2, §3). Positions, face outlines and vertex normals (OBJ `vn`, PLY
+// nx/ny/nz, NOFF) are read; the scene loader checks and transforms them.
 #pragma once
 
 #include <string>
@@ -14,6 +14,11 @@ struct ImportedMesh {
     std::vector<Vec3> vertices;           // file units
     std::vector<std::vector<int>> faces;  // vertex indices in the file's order (front = CCW)
     std::vector<Vec2> uvs;  // texture coordinates per vertex, or empty (scene imports only)
+    // The file's vertex normals (file frame, per vertex; not checked: the loader drops
+    // zero, non-finite or back-facing ones per face), or empty when it has none.
+    std::vector<Vec3> normals;
+    // Why a file's normals were not kept ("" when kept or when it has none), for a note.
+    std::string normals_left_out;
 };
 
 // Checks an OBJ file's text (mesh_import.cpp): vertex coordinates must be finite numbers in

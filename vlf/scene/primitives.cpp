@@ -114,6 +114,29 @@ std::vector<Polygon> make_cylinder(const CylinderShape& s) {
     return out;
 }
 
+// ---- smooth shading normals ---------------------------------------------------------------
+
+VertexNormals sphere_normals(const std::vector<Polygon>& faces, const Vec3& center) {
+    VertexNormals out(faces.size());
+    for (size_t k = 0; k < faces.size(); ++k)
+        for (const Vec3& v : faces[k]) out[k].push_back(glm::normalize(v - center));
+    return out;
+}
+
+VertexNormals cylinder_normals(const std::vector<Polygon>& faces, const CylinderShape& s) {
+    VertexNormals out(faces.size());
+    const size_t walls = size_t(s.segments) * (s.inner_radius > 0 ? 2 : 1);
+    for (size_t k = 0; k < faces.size() && k < walls; ++k) {
+        // Face order: the outer wall's `segments` quads, then the inner wall's.
+        const double side = k < size_t(s.segments) ? 1.0 : -1.0;
+        for (const Vec3& v : faces[k]) {
+            const Vec3 radial(v.x - s.base_center.x, 0.0, v.z - s.base_center.z);
+            out[k].push_back(side * glm::normalize(radial));
+        }
+    }
+    return out;
+}
+
 // ---- polygon geometry ---------------------------------------------------------------------
 
 Vec3 polygon_centroid(const Polygon& p) {

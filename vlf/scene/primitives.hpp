@@ -43,6 +43,20 @@ struct CylinderShape {
 // Face order: outer wall, inner wall, bottom cap, top cap.
 std::vector<Polygon> make_cylinder(const CylinderShape& shape);
 
+// ---- smooth shading normals (docs/scenes.md "smooth") ---------------------------------
+
+// Per face, per vertex: the unit normals of the surface the faces approximate, or an empty
+// list for a face that stays flat. `faces` as the generators above made them (untransformed).
+using VertexNormals = std::vector<std::vector<Vec3>>;
+
+// The sphere's: (vertex - center) / |vertex - center| at every vertex of every face.
+VertexNormals sphere_normals(const std::vector<Polygon>& faces, const Vec3& center);
+
+// The cylinder's curved walls (the outer wall's normals point away from the axis, the inner
+// wall's towards it, both perpendicular to it); the caps stay flat. `faces` is
+// make_cylinder(shape).
+VertexNormals cylinder_normals(const std::vector<Polygon>& faces, const CylinderShape& shape);
+
 // ---- polygon geometry ----------------------------------------------------------------
 
 // Newell's vector: twice the area, in the front-normal direction (exact for planar polygons;

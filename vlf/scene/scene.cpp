@@ -2,6 +2,7 @@
 #include "vlf/scene/scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace vlf {
 
@@ -24,6 +25,71 @@ Rgb Scene::albedo_at(const Face& f, const Vec3& x, double footprint) const {
     for (int ch = 0; ch < 3; ++ch)
         out[ch] = mean[ch] > 0 ? m.diffuse[ch] * local[ch] / mean[ch] : 0.0;
     return glm::min(out, Rgb(1.0) - m.specular);
+}
+
+namespace {
+
+// Interpolation weights of x over the vertices of a convex planar polygon with unit normal n
+// (they sum to 1, and reproduce x): barycentric for a triangle, Floater's mean value
+// coordinates otherwise (smooth inside, linear along the edges, the triangle's barycentrics
+// for three vertices). x at a vertex or on an edge takes that vertex or edge's linear mix.
+void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
+                     std::vector<double>& w) {
+    const size_t m = v.size();
+    w.assign(m, 0.0);
+    if (m == 3) {
+        // Signed sub-triangle areas about n (x on the plane); x slightly outside gives a
+        // small negative weight, which extrapolates linearly.
+        const double a0 = glm::dot(glm::cross(v[1] - x, v[2] - x), n);
+        const double a1 = glm::dot(glm::cross(v[2] - x, v[0] - x), n);
+        const double a2 = glm::dot(glm::cross(v[0] - x, v[1] - x), n);
+        const double sum = a0 + a1 + a2;
+        if (sum > 0) {
+            w = {a0 / sum, a1 / sum, a2 / sum};
+            return;
+        }
+    }
+    std::vector<Vec3> d(m);
+    std::vector<double> r(m), t(m);
+    for (size_t i = 0; i < m; ++i) {
+        d[i] = v[i] - x;
+        r[i] = glm::length(d[i]);
+    }
+    const double scale = *std::max_element(r.begin(), r.end());
+    for (size_t i = 0; i < m; ++i)
+        if (r[i] <= 1e-12 * scale) {  // at vertex i
+            w[i] = 1.0;
+            return;
+        }
+    for (size_t i = 0; i < m; ++i) {
+        // tan(alpha_i / 2) of the signed angle from d_i to d_{i+1} about n.
+        const size_t j = (i + 1) % m;
+        const double s = glm::dot(glm::cross(d[i], d[j]), n), c = glm::dot(d[i], d[j]);
+        if (std::abs(s) <= 1e-12 * r[i] * r[j] && c < 0) {  // on edge i -> j
+            w[i] = r[j] / (r[i] + r[j]);
+            w[j] = r[i] / (r[i] + r[j]);
+            return;
+        }
+        t[i] = s / (r[i] * r[j] + c);
+    }
+    double sum = 0.0;
+    for (size_t i = 0; i < m; ++i) sum += w[i] = (t[(i + m - 1) % m] + t[i]) / r[i];
+    for (double& wi : w) wi /= sum;
+}
+
+}  // namespace
+
+Vec3 Scene::shading_normal(const Face& f, const Vec3& x) const {
+    if (f.inner && f.twin >= 0) return -shading_normal(faces[size_t(f.twin)], x);
+    if (f.vertex_normals.size() != f.vertices.size()) return f.normal;
+    thread_local std::vector<double> w;
+    polygon_weights(f.vertices, f.normal, x, w);
+    Vec3 n(0.0);
+    for (size_t i = 0; i < w.size(); ++i) n += w[i] * f.vertex_normals[i];
+    const double len = glm::length(n);
+    // A convex mix of front-side normals stays in front; guard the extrapolated rim.
+    if (!(len > 0) || !(glm::dot(n, f.normal) > 1e-6 * len)) return f.normal;
+    return n / len;
 }
 
 int Scene::emitter_count() const {

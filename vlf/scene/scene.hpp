@@ -89,6 +89,11 @@ struct Face {
     uint64_t inner_edges = 0;
     // Texture coordinates per vertex (a textured material's triangles), else empty.
     std::vector<Vec2> uv;
+    // Smooth shading (docs/scenes.md "smooth"): a unit shading normal per vertex, each on
+    // the front side (dot with `normal` > 0), interpolated across the face by
+    // Scene::shading_normal; empty for a flat face. A twin's are its face's negated, in its
+    // (reversed) vertex order.
+    std::vector<Vec3> vertex_normals;
 };
 
 // A chart (docs/charts.md): connected faces of one material whose normals lie within a
@@ -172,6 +177,11 @@ struct Scene {
     // by its texture where it has one (Material::diffuse_texture).
     // `footprint`: the texture's mean over about that many texture pixels (mip levels).
     Rgb albedo_at(const Face& f, const Vec3& x, double footprint = 0.0) const;
+    // The unit shading normal of face f at x (normalised units, a point of the face): its
+    // vertex normals interpolated (barycentric on a triangle, mean value coordinates on a
+    // convex polygon), or the geometric normal when the face is flat. An inner dielectric
+    // face's is its outer twin's negated. Always on the front side of f.
+    Vec3 shading_normal(const Face& f, const Vec3& x) const;
     int emitter_count() const;        // faces whose material emits
     int specular_face_count() const;  // faces whose material has rho_s > 0
 };

@@ -8,7 +8,8 @@
 //   glTF      metallic 1 and roughness 0 (factors x the metallic-roughness texture's mean)
 //             -> mirror of reflectance baseColor; anything else -> diffuse baseColor (a
 //             glossy metal noted); emissive x KHR_materials_emissive_strength -> emission;
-//             transmission and ior are listed as left out (dielectrics: issue 14).
+//             transmission and ior are listed as left out (a scene's `dielectric` material maps
+//             onto them).
 //   others    the diffuse and emissive colours; a reflective colour with reflectivity > 0
 //             -> mirror.
 // Lights (lights_of): point, spot and directional lights with their strengths as the file
@@ -229,7 +230,7 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
             if (std::isfinite(ior) && ior >= 1.0f) out.ior = ior;
             note(
                 fmt::format("transmission {:.3g}, ior {:.3g} (kept in the material; not "
-                            "propagated: no dielectrics yet)",
+                            "glass: map a scene dielectric material onto it with \"materials\")",
                             x, ior));
         }
     } else {
@@ -250,7 +251,7 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
                              rgb_text(ks)));
         }
         if (has_illum && (i == 4 || i == 6 || i == 7 || i == 9))
-            note(fmt::format("illum {} (glass: no dielectrics yet)", i));
+            note(fmt::format("illum {} (glass: map a scene dielectric material onto it)", i));
     }
 
     Rgb emission(0.0);
@@ -323,6 +324,17 @@ struct Collector {
                 out.uvs.push_back(mesh.HasTextureCoords(0) ? Vec2(mesh.mTextureCoords[0][v].x,
                                                                   mesh.mTextureCoords[0][v].y)
                                                            : Vec2(nan));
+        }
+        // Vertex normals (NaN where a mesh has none: those faces stay flat), moved by the
+        // inverse transpose of the node transform's linear part.
+        if (mesh.HasNormals() || !out.normals.empty()) {
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            out.normals.resize(size_t(base), Vec3(nan));
+            aiMatrix3x3 normal_matrix(xf);
+            normal_matrix.Inverse().Transpose();
+            for (unsigned v = 0; v < mesh.mNumVertices; ++v)
+                out.normals.push_back(mesh.HasNormals() ? to_vec(normal_matrix * mesh.mNormals[v])
+                                                        : Vec3(nan));
         }
         // A mirroring transform turns the winding: reverse it so the front stays the front.
         const bool mirrored = xf.Determinant() < 0;

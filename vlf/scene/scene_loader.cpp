@@ -21,6 +21,8 @@
 //   object     type (polygon|box|sphere|cylinder|mesh|import), material (optional for
 //              import), name? = "<type>#<index>",
 //              two_sided? = false, flip? = false, scale? = 1 (number or [sx,sy,sz], > 0),
+//              smooth? (vertex normals: default true for sphere, the cylinder's walls and
+//              mesh or import files with normals; true is an error for polygon and box),
 //              rotate_x_deg? / rotate_y_deg? / rotate_z_deg? = 0, translate? = [0,0,0]
 //              applied as: scale, rotate x, y, z (about the pivot), translate. Pivot: box
 //              centre, sphere centre, cylinder axis midpoint; the origin for polygon and mesh.
@@ -107,6 +109,7 @@ struct ObjectDesc {
     std::string type;
     int material = 0;
     bool two_sided = false, flip = false, triangulate = false;
+    std::optional<bool> smooth;  // "smooth" as given (the default depends on the type)
     Vec3 scale{1.0}, rotate_deg{0.0}, translate{0.0};
     std::vector<Vec3> vertices;  // polygon
     Vec3 box_min{0.0}, box_max{0.0};
@@ -137,9 +140,9 @@ const std::vector<std::string> kObjectTypes = {"polygon",  "box",  "sphere",
 
 // The keys an object of `type` may have.
 std::vector<std::string> object_keys(const std::string& type) {
-    std::vector<std::string> keys = {"type",         "material", "name",         "two_sided",
-                                     "flip",         "scale",    "rotate_x_deg", "rotate_y_deg",
-                                     "rotate_z_deg", "translate"};
+    std::vector<std::string> keys = {"type",         "material",  "name",         "two_sided",
+                                     "flip",         "scale",     "rotate_x_deg", "rotate_y_deg",
+                                     "rotate_z_deg", "translate", "smooth"};
     std::vector<std::string> specific;
     if (type == "polygon")
         specific = {"vertices", "triangulate"};
@@ -324,6 +327,14 @@ ObjectDesc validate_object(const Reader& r, int index,
     if (const auto b = r.optional("two_sided")) o.two_sided = b->boolean();
     if (const auto b = r.optional("flip")) o.flip = b->boolean();
     if (const auto b = r.optional("triangulate")) o.triangulate = b->boolean();
+    if (const auto b = r.optional("smooth")) {
+        o.smooth = b->boolean();
+        if (*o.smooth && (o.type == "polygon" || o.type == "box"))
+            b->fail(fmt::format(
+                "a {} has no vertex normals to smooth with (\"smooth\": true is for sphere, "
+                "cylinder, mesh and import)",
+                o.type));
+    }
     validate_transform(r, o);
     if (o.type == "polygon")
         validate_polygon(r, o);
@@ -544,6 +555,13 @@ struct Transform {
         if (linear_identity) return p + translate;
         return rotation * ((p - pivot) * scale) + pivot + translate;
     }
+    // A surface normal moves by the inverse transpose of the linear part (a unit normal,
+    // or a zero or non-finite one as it was).
+    Vec3 normal(const Vec3& n) const {
+        const Vec3 m = linear_identity ? n : rotation * (n / scale);
+        const double len = glm::length(m);
+        return len > 0 && std::isfinite(len) ? m / len : m;
+    }
     Vec3 inverse(const Vec3& q) const {
         return glm::transpose(rotation) * (q - pivot - translate) / scale + pivot;
     }
@@ -634,6 +652,30 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
     }
 }
 
+// "smooth": true needs a file with vertex normals (an import: in any of its parts); normals a
+// file has but cannot give per vertex are noted.
+void check_smooth(SceneDescription& d, const std::vector<ImportedMesh>& meshes,
+                  const std::string& file) {
+    std::vector<char> has_normals(
+        d.objects.empty() ? 0 : size_t(d.objects.back().source_object) + 1, 0);
+    for (size_t i = 0; i < d.objects.size(); ++i) {
+        const ObjectDesc& o = d.objects[i];
+        if (!meshes[i].normals.empty()) has_normals[size_t(o.source_object)] = 1;
+        if (!meshes[i].normals_left_out.empty() && o.smooth != false)
+            d.notes.push_back(fmt::format("{}: {} ({}): '{}': vertex normals left out (flat): {}",
+                                          file, o.place, o.name, o.file,
+                                          meshes[i].normals_left_out));
+    }
+    for (const ObjectDesc& o : d.objects)
+        if ((o.type == "mesh" || o.type == "import") && o.smooth == true &&
+            !has_normals[size_t(o.source_object)])
+            fail(file, o.place + ".smooth",
+                 fmt::format("'{}' has no vertex normals{} (\"smooth\": true needs them)", o.file,
+                             o.type == "mesh" && lower_extension(o.file) == ".stl"
+                                 ? " (STL files have facet normals only)"
+                                 : ""));
+}
+
 // Reads the mesh files and expands the imports; returns one mesh per (expanded) object.
 std::vector<ImportedMesh> load_resources(SceneDescription& d, const std::string& file) {
     std::vector<ObjectDesc> objects;
@@ -666,14 +708,19 @@ std::vector<ImportedMesh> load_resources(SceneDescription& d, const std::string&
         }
     }
     d.objects = std::move(objects);
+    check_smooth(d, meshes, file);
     return meshes;
 }
 
 // ================================ stage 4: build ========================================
 
-// The untransformed faces of an object and the pivot its transform acts about.
-std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, Vec3& pivot) {
+// The untransformed faces of an object, their vertex normals (empty unless smooth) and the
+// pivot its transform acts about.
+std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, Vec3& pivot,
+                                 VertexNormals& normals) {
     pivot = Vec3(0.0);
+    normals.clear();
+    const bool smooth = o.smooth.value_or(true);  // polygon and box have none to give
     if (o.type == "polygon") return {o.vertices};
     if (o.type == "box") {
         pivot = 0.5 * (o.box_min + o.box_max);
@@ -681,18 +728,27 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
     }
     if (o.type == "sphere") {
         pivot = o.center;
-        return make_icosphere(o.center, o.radius, o.subdivisions);
+        std::vector<Polygon> out = make_icosphere(o.center, o.radius, o.subdivisions);
+        if (smooth) normals = sphere_normals(out, o.center);
+        return out;
     }
     if (o.type == "cylinder") {
         pivot = o.cylinder.base_center + Vec3(0, 0.5 * o.cylinder.height, 0);
-        return make_cylinder(o.cylinder);
+        std::vector<Polygon> out = make_cylinder(o.cylinder);
+        if (smooth) normals = cylinder_normals(out, o.cylinder);
+        return out;
     }
     std::vector<Polygon> out;  // mesh
     out.reserve(mesh.faces.size());
-    for (const auto& f : mesh.faces) {
+    const bool with_normals = smooth && mesh.normals.size() == mesh.vertices.size();
+    if (with_normals) normals.resize(mesh.faces.size());
+    for (size_t k = 0; k < mesh.faces.size(); ++k) {
         Polygon p;
-        p.reserve(f.size());
-        for (int vi : f) p.push_back(mesh.vertices[static_cast<size_t>(vi)]);
+        p.reserve(mesh.faces[k].size());
+        for (int vi : mesh.faces[k]) {
+            p.push_back(mesh.vertices[static_cast<size_t>(vi)]);
+            if (with_normals) normals[k].push_back(mesh.normals[static_cast<size_t>(vi)]);
+        }
         out.push_back(std::move(p));
     }
     return out;
@@ -720,14 +776,18 @@ std::vector<Polygon> shape_faces(const ObjectDesc& o, const ImportedMesh& mesh, 
 // bounding box.
 std::vector<std::vector<Polygon>> transformed_shapes(const SceneDescription& d,
                                                      const std::vector<ImportedMesh>& meshes,
-                                                     double& diameter, const std::string& file) {
+                                                     double& diameter, const std::string& file,
+                                                     std::vector<VertexNormals>& normals) {
     std::vector<std::vector<Polygon>> raw(d.objects.size());
+    normals.assign(d.objects.size(), {});
     Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
     for (size_t i = 0; i < d.objects.size(); ++i) {
         const ObjectDesc& o = d.objects[i];
         Vec3 pivot;
-        raw[i] = shape_faces(o, meshes[i], pivot);
+        raw[i] = shape_faces(o, meshes[i], pivot, normals[i]);
         const Transform xf(o, pivot);
+        for (std::vector<Vec3>& face : normals[i])
+            for (Vec3& n : face) n = xf.normal(n);
         for (size_t k = 0; k < raw[i].size(); ++k)
             for (size_t j = 0; j < raw[i][k].size(); ++j) {
                 Vec3& x = raw[i][k][j];
@@ -758,7 +818,40 @@ std::vector<std::vector<Polygon>> transformed_shapes(const SceneDescription& d,
 struct ObjectFaces {
     std::vector<Polygon> polygons;
     std::vector<std::vector<Vec2>> uvs;
+    // Unit vertex normals per face (Face::vertex_normals; an empty list: flat), or empty
+    // when the object is flat throughout.
+    VertexNormals normals;
 };
+
+// The vertex normals of triangle `t`, cut from polygon `p` with normals `pn` (triangulation
+// keeps the polygon's vertices): empty when `p` has none.
+std::vector<Vec3> triangle_normals(const Polygon& p, const std::vector<Vec3>& pn,
+                                   const Polygon& t) {
+    std::vector<Vec3> n;
+    if (pn.size() != p.size()) return n;
+    for (const Vec3& x : t) {
+        const auto at = std::find(p.begin(), p.end(), x);
+        if (at == p.end()) return {};
+        n.push_back(pn[size_t(at - p.begin())]);
+    }
+    return n;
+}
+
+// Keeps a face's vertex normals only when every one is finite, non-zero and on the front
+// side of the face (made unit); returns false when they were dropped.
+bool keep_front_normals(const Polygon& p, std::vector<Vec3>& normals) {
+    if (normals.empty()) return true;
+    const Vec3 front = newell_vector(p);
+    for (Vec3& n : normals) {
+        const double len = glm::length(n);
+        if (!(len > 0) || !std::isfinite(len) || !(glm::dot(n, front) > 0)) {
+            normals.clear();
+            return false;
+        }
+        n /= len;
+    }
+    return true;
+}
 
 // The texture coordinates of triangle `t`, cut from polygon `k` of `mesh` (triangulation
 // keeps the polygon's vertices): empty when a vertex has none.
@@ -776,11 +869,13 @@ std::vector<Vec2> triangle_uvs(const ImportedMesh& mesh, size_t k, const Polygon
 }
 
 // `twins`: every face gets a reversed twin (a two-sided object, or glass).
+// `raw_normals`: the faces' vertex normals (VertexNormals; empty when flat).
 ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
-                          const ImportedMesh& mesh, double tol, const std::string& file,
-                          std::vector<std::string>& notes, bool twins) {
+                          const VertexNormals& raw_normals, const ImportedMesh& mesh, double tol,
+                          const std::string& file, std::vector<std::string>& notes, bool twins) {
     ObjectFaces result;
     std::vector<Polygon>& out = result.polygons;
+    const bool smooth = !raw_normals.empty();
     const bool textured = !mesh.uvs.empty();
     // Imports are repaired, never refused for a face: what changed is counted.
     const bool imported = o.type == "import";
@@ -816,6 +911,7 @@ ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
                     continue;
                 }
                 if (textured) result.uvs.push_back(triangle_uvs(mesh, k, p, t));
+                if (smooth) result.normals.push_back(triangle_normals(p, raw_normals[k], t));
                 out.push_back(std::move(t));
             }
         } else {
@@ -829,6 +925,7 @@ ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
                         tol);
                 face_error(file, o, k, *problem);
             }
+            if (smooth) result.normals.push_back(raw_normals[k]);
             out.push_back(p);
         }
     }
@@ -843,15 +940,31 @@ ObjectFaces checked_faces(const ObjectDesc& o, const std::vector<Polygon>& raw,
     if (!changed.empty())
         notes.push_back(fmt::format("{}: {} ({}): {}", file, o.place, o.name, changed));
     std::vector<std::vector<Vec2>>& uvs = result.uvs;
+    VertexNormals& normals = result.normals;
     if (o.flip) {
         for (Polygon& p : out) std::reverse(p.begin(), p.end());
         for (auto& uv : uvs) std::reverse(uv.begin(), uv.end());
+        for (auto& vn : normals) {  // the front turns: so do the normals
+            std::reverse(vn.begin(), vn.end());
+            for (Vec3& n : vn) n = -n;
+        }
     }
+    size_t backward = 0;  // faces whose normals do not all point to their front
+    for (size_t k = 0; k < normals.size(); ++k) backward += !keep_front_normals(out[k], normals[k]);
+    if (backward)
+        notes.push_back(fmt::format(
+            "{}: {} ({}): {} of {} face(s) kept flat: a vertex normal is zero, not finite or "
+            "points to the back of the face",
+            file, o.place, o.name, backward, normals.size()));
     if (o.two_sided || twins) {
         const size_t n = out.size();
         for (size_t k = 0; k < n; ++k) out.emplace_back(out[k].rbegin(), out[k].rend());
         for (size_t k = 0; k < uvs.size() && k < n; ++k)
             uvs.emplace_back(uvs[k].rbegin(), uvs[k].rend());
+        for (size_t k = 0; k < normals.size() && k < n; ++k) {  // reversed, to the twin's front
+            normals.emplace_back(normals[k].rbegin(), normals[k].rend());
+            for (Vec3& v : normals.back()) v = -v;
+        }
     }
     return result;
 }
@@ -890,6 +1003,7 @@ void add_objects(Scene& scene, const SceneDescription& d, const std::vector<Obje
             const Polygon& p = faces[i].polygons[k];
             Face f;
             if (k < faces[i].uvs.size()) f.uv = faces[i].uvs[k];
+            if (k < faces[i].normals.size()) f.vertex_normals = faces[i].normals[k];
             f.id = static_cast<int>(scene.faces.size());
             f.object = static_cast<int>(i);
             f.material = o.material;
@@ -927,7 +1041,9 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     scene.textures = d.textures;
 
     double diameter = 0;
-    const std::vector<std::vector<Polygon>> raw = transformed_shapes(d, meshes, diameter, file);
+    std::vector<VertexNormals> raw_normals;
+    const std::vector<std::vector<Polygon>> raw =
+        transformed_shapes(d, meshes, diameter, file, raw_normals);
     if (!(diameter > 0) || !std::isfinite(diameter))
         fail(file, "objects", "the scene's geometry has no extent");
     const double tol = kRelativeTolerance * diameter;
@@ -935,7 +1051,8 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     for (size_t i = 0; i < d.objects.size(); ++i) {
         const ObjectDesc& o = d.objects[i];
         const bool glass = d.materials[size_t(o.material)].dielectric;
-        faces[i] = checked_faces(o, raw[i], meshes[i], tol, file, scene.load_notes, glass);
+        faces[i] =
+            checked_faces(o, raw[i], raw_normals[i], meshes[i], tol, file, scene.load_notes, glass);
         if (!glass) continue;
         // Its outer faces are the first half (the second are their inner twins).
         const std::vector<Polygon> outer(

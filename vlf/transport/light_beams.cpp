@@ -61,6 +61,22 @@ int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const V
     return f.chart;
 }
 
+// The normal a ray d turns about at point p of specular face f: the interpolated shading
+// normal (Scene::shading_normal: a tessellated sphere reflects and refracts as a sphere),
+// unless it would send the reflected ray behind the face's plane or the refracted one not
+// through it (at a silhouette); then the plane's.
+Vec3 turning_normal(const Scene& scene, const Face& f, const Vec3& p, const Vec3& d) {
+    const Vec3 n = scene.shading_normal(f, p);
+    if (n == f.normal) return n;
+    if (glm::dot(d, n) >= 0.0 || glm::dot(reflect(d, n), f.normal) <= 0.0) return f.normal;
+    const Material& m = scene.material_of(f);
+    Vec3 t;
+    if (m.dielectric && refract(d, n, interface_eta(f.inner, m.ior), t) &&
+        glm::dot(t, f.normal) >= 0.0)
+        return f.normal;
+    return n;
+}
+
 }  // namespace
 
 double cube_solid_angle(double u0, double u1, double v0, double v1) {
@@ -75,6 +91,16 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
     const double texel = m_texel = scene.texel_size_user * scene.normalisation.scale;
     const int per_texel =
         texel > 0.0 ? int(std::min<double>(kMaxRoots, std::ceil(2.0 * kRootsPerTexel / texel))) : 1;
+    m_surface.resize(scene.faces.size());
+    for (const Face& f : scene.faces) {
+        const Chart& c = scene.chart_of(f);
+        const int charts = int(scene.charts.size()), faces = int(scene.faces.size());
+        if (!f.vertex_normals.empty())  // a smooth surface: one side of its object
+            m_surface[size_t(f.id)] =
+                charts + faces + 2 * f.object + (f.twin >= 0 && f.twin < f.id);
+        else
+            m_surface[size_t(f.id)] = c.planar ? c.id : charts + f.id;
+    }
     int64_t total = 0;
     for (const Light& l : scene.lights) {
         if (!l.emits()) continue;
@@ -233,8 +259,10 @@ LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side,
             t.cls = -3;  // beyond the surface's rim: it was not there for this ray
             return t;
         }
-        t.o += ((f.plane_offset - glm::dot(f.normal, t.o)) / denom) * t.d;
-        const Vec3 n = f.normal;
+        const double to_plane = (f.plane_offset - glm::dot(f.normal, t.o)) / denom;
+        t.o += to_plane * t.d;
+        t.length += to_plane;
+        const Vec3 n = turning_normal(m_scene, f, t.o, t.d);
         if (!g.events[e].refract) {
             t.d = glm::normalize(reflect(t.d, n));
         } else if (!refract(t.d, n, interface_eta(f.inner, m_scene.material_of(f).ior), t.d)) {
@@ -283,17 +311,28 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
     const double spread = std::max(glm::length((o[3] + t_end * d[3]) - (o[1] + t_end * d[1])),
                                    glm::length((o[4] + t_end * d[4]) - (o[2] + t_end * d[2])));
     // Across an edge the beam splits until it is a fraction of a texel wide there; below
-    // that the nearer face's rim decides the shares (rim_share).
-    bool split = across && spread > kEdgeTexels * m_texel;
+    // that the nearer face's rim decides the shares (rim_share). A beam of a specular path
+    // may be across an edge it met on the way (a facet's edge, a mirror's rim), past which
+    // its rays part: its width there, not where its rays end, is what must be small (at
+    // most its cross-section at its last specular surface, as if it had spread from the
+    // light unfocused).
+    double width = spread;
+    if (g.count > 0)
+        width = std::min(width, s.parallel ? std::max(r.u1 - r.u0, r.v1 - r.v0)
+                                           : std::max(r.u1 - r.u0, r.v1 - r.v0) * tr[0].length);
+    bool split = across && width > kEdgeTexels * m_texel;
     Vec3 foot[4];
     const bool foot_ok = cls[0] >= 0 && footprint(hit[0].face, o, d, foot);
-    if (cls[0] >= 0) {
+    // Only a face that keeps light in texels needs the beam narrower than a texel: at a
+    // mirror or glass the beam goes on whole (its quarters are traced afresh through it
+    // where they land, and split there as they need).
+    if (cls[0] >= 0 && m_scene.material_of(m_scene.charts[size_t(cls[0])]).is_diffuse()) {
         const double texel = m_scene.charts[size_t(cls[0])].texels.size;
         if (foot_ok)
             split |= std::max(glm::length(foot[2] - foot[0]), glm::length(foot[3] - foot[1])) >
                      kFootprintTexels * std::min(texel, m_reach);
         else  // a corner ray misses the plane ahead (a grazing or cut beam): as at an edge
-            split |= spread > kEdgeTexels * m_texel;
+            split |= width > kEdgeTexels * m_texel;
     }
     if (cls[0] == -1 && !split) {
         // A beam that meets nothing with all its rays may still hold a corner of the scene
@@ -457,10 +496,11 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
                   (m.specular.x + m.specular.y + m.specular.z) / 3.0, out);
         return;
     }
+    const Vec3 n = turning_normal(m_scene, f, hit.point, dir);
     const double eta = interface_eta(f.inner, m.ior);
-    double R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
+    double R = fresnel_dielectric(-glm::dot(dir, n), eta);
     Vec3 refracted;
-    if (!refract(dir, f.normal, eta, refracted)) R = 1.0;
+    if (!refract(dir, n, eta, refracted)) R = 1.0;
     go_on(s, r, g, depth, f, false, power * R, R, out);
     if (R < 1.0) go_on(s, r, g, depth, f, true, power * (1.0 - R), 1.0 - R, out);
 }

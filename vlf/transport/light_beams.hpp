@@ -76,7 +76,7 @@ class LightBeams {
     // A branch of a beam split by glass is followed while its weight (the product of the
     // reflectances and transmittances on its way) is at least this; the rest is booked as
     // lost.cut_beam (internal reflections of internal reflections of a ball lens).
-    static constexpr double kMinWeight = 1e-4;
+    static constexpr double kMinWeight = 1e-3;
 
   private:
     // One light, or one subfield of a directional light's disc (normalised units).
@@ -118,6 +118,7 @@ class LightBeams {
         Vec3 o{0.0}, d{0.0};
         RayHit hit;
         int cls = -1;
+        double length = 0.0;  // from the light to o, through the segment's events
     };
     Traced cast(const Source& s, const Segment& g, int side, double u, double v) const;
     void trace(const Source& s, const Rect& r, const Segment& g, const Rgb& power, int depth,
@@ -129,8 +130,11 @@ class LightBeams {
               LightShotResult& out) const;
     void go_on(const Source& s, const Rect& r, const Segment& g, int depth, const Face& f,
                bool refract, const Rgb& power, double weight, LightShotResult& out) const;
-    // Faces a beam's rays may meet at one event: one side of one object.
-    int surface_key(const Face& f) const { return 2 * f.object + (f.twin >= 0 && f.twin < f.id); }
+    // Faces a beam's rays may meet at one event (m_surface): one plane (a planar chart's
+    // faces), one face of a flat-shaded curved chart, or one side of a smooth object (its
+    // shading normals are continuous). A beam straddling two such surfaces (the edge of a
+    // box, a flat facet's edge) splits there as at any edge.
+    int surface_key(const Face& f) const { return m_surface[size_t(f.id)]; }
     void deposit(const Face& f, const Vec3 foot[4], bool foot_ok, const Vec3& centre,
                  const Rgb& power, LightShotResult& out, Rgb& reflected) const;
 
@@ -139,7 +143,8 @@ class LightBeams {
     const TextureMaps& m_tex;
     const std::vector<FaceInTexels>& m_polygons;
     double m_reach;
-    double m_texel = 0.0;  // the scene's texel size, normalised units
+    double m_texel = 0.0;        // the scene's texel size, normalised units
+    std::vector<int> m_surface;  // per face, surface_key
     std::vector<Source> m_sources;
     std::vector<int64_t> m_first;  // per source, one past its last root beam (prefix sums)
 };
