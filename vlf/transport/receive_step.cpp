@@ -104,19 +104,37 @@ SpecularSource source_window(const PassContext& pc, const PassDirection& pd, siz
 }
 
 // `power` leaves face `onto`'s front along `outgoing`: src (its window filled) aimed at the
-// enclosing directions and kept, or booked as lost when no direction can carry it.
-void aim(const PassContext& pc, SpecularSource src, int onto, const Vec3& outgoing,
+// enclosing directions (on a nearby face of the chart where `onto` has no ray in one,
+// chart_specular_targets), one source per face, or booked as lost when no direction can
+// carry it.
+void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3& outgoing,
          const Rgb& power, ChunkResult& res) {
     if (!(power.x > 0 || power.y > 0 || power.z > 0)) return;
-    src.face = onto;
-    src.power = power;
-    src.targets = specular_targets(pc.dirs, pc.scene.faces[size_t(onto)], outgoing, pc.coverage,
-                                   src.target_direction, src.target_weight);
-    if (src.targets == 0) {
+    std::array<SpecularTarget, 3> targets;
+    const int n = chart_specular_targets(pc.scene, pc.dirs, pc.scene.faces[size_t(onto)], outgoing,
+                                         pc.coverage, targets);
+    if (n == 0) {
         res.lost.grazing_mirror += power;  // no PSF can carry it
         return;
     }
-    res.sources.push_back(std::move(src));
+    for (int j = 0; j < n; ++j) {
+        bool done = false;  // an earlier target's face already took it
+        for (int i = 0; i < j; ++i) done |= targets[size_t(i)].face == targets[size_t(j)].face;
+        if (done) continue;
+        SpecularSource one = src;
+        one.face = targets[size_t(j)].face;
+        one.targets = 0;
+        double share = 0.0;
+        for (int i = j; i < n; ++i)
+            if (targets[size_t(i)].face == one.face) {
+                one.target_direction[size_t(one.targets)] = targets[size_t(i)].direction;
+                one.target_weight[size_t(one.targets++)] = targets[size_t(i)].weight;
+                share += targets[size_t(i)].weight;
+            }
+        for (int i = 0; i < one.targets; ++i) one.target_weight[size_t(i)] /= share;
+        one.power = power * share;
+        res.sources.push_back(std::move(one));
+    }
 }
 
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
@@ -133,9 +151,9 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     const int facing = (rot * face.normal).z > 0 ? 1 : -1;
     const Vec3 incoming = pd.g.psf.omega * double(-facing);  // light travels towards the face
     const Vec3 mirrored = reflect(incoming, face.normal);
-    SpecularSource src = source_window(pc, pd, f, frags, r, in);
+    const SpecularSource src = source_window(pc, pd, f, frags, r, in);
     if (!mat.dielectric) {
-        aim(pc, std::move(src), int(f), mirrored, r.power * mat.specular, res);
+        aim(pc, src, int(f), mirrored, r.power * mat.specular, res);
         return;
     }
     const double eta = interface_eta(face.inner, mat.ior);
@@ -143,9 +161,9 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     Vec3 refracted;
     if (R < 1.0 && refract(incoming, face.normal, eta, refracted)) {
         aim(pc, src, face.twin, refracted, r.power * (1.0 - R), res);
-        aim(pc, std::move(src), int(f), mirrored, r.power * R, res);
+        aim(pc, src, int(f), mirrored, r.power * R, res);
     } else {
-        aim(pc, std::move(src), int(f), mirrored, r.power, res);  // total internal reflection
+        aim(pc, src, int(f), mirrored, r.power, res);  // total internal reflection
     }
 }
 

@@ -2,40 +2,53 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/field/psf.hpp"
+#include "vlf/scene/primitives.hpp"
 
 namespace vlf {
 
-int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& outgoing,
-                     const Coverage& coverage, std::array<int, 3>& dir,
-                     std::array<double, 3>& weight) {
-    const Vec3 n = f.normal;
+int chart_specular_targets(const Scene& scene, const DirectionSet& dirs, const Face& f,
+                           const Vec3& outgoing, const Coverage& coverage,
+                           std::array<SpecularTarget, 3>& out) {
     const EnclosingTriangle tri = dirs.enclosing(glm::normalize(outgoing));
+    const Chart& chart = scene.chart_of(f);
+    const Vec3 centre = polygon_centroid(f.vertices);
     int k = 0;
     double sum = 0.0;
     for (int i = 0; i < 3; ++i) {
         const int d = tri.index[i];
         if (tri.weight[i] <= 0.0) continue;
-        // The face must emit along sense * omega_d: its front must face that way.
-        if (glm::dot(n, dirs.direction(d)) * tri.sense[i] <= 1e-12) continue;
-        if (coverage(d, f.id) == 0) continue;
+        const Vec3 omega = dirs.direction(d) * double(tri.sense[i]);
+        auto usable = [&](const Face& g) {
+            return glm::dot(g.normal, omega) > 1e-12 && coverage(d, g.id) > 0;
+        };
+        int face = -1;
+        if (usable(f)) {
+            face = f.id;
+        } else {  // the nearest face of the chart with rays there
+            double best = std::numeric_limits<double>::infinity();
+            for (int g : chart.faces) {
+                const Face& other = scene.faces[size_t(g)];
+                if (!usable(other)) continue;
+                const double dist = glm::length(polygon_centroid(other.vertices) - centre);
+                if (dist < best) best = dist, face = g;
+            }
+        }
+        if (face < 0) continue;
         bool merged = false;  // the same line can appear twice near the equator
         for (int j = 0; j < k; ++j)
-            if (dir[j] == d) {
-                weight[j] += tri.weight[i];
+            if (out[size_t(j)].direction == d && out[size_t(j)].face == face) {
+                out[size_t(j)].weight += tri.weight[i];
                 merged = true;
             }
-        if (!merged) {
-            dir[k] = d;
-            weight[k] = tri.weight[i];
-            ++k;
-        }
+        if (!merged) out[size_t(k++)] = {face, d, tri.weight[i]};
         sum += tri.weight[i];
     }
-    for (int j = 0; j < k; ++j) weight[j] /= sum;
+    for (int j = 0; j < k; ++j) out[size_t(j)].weight /= sum;
     return k;
 }
 

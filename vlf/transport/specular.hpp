@@ -42,10 +42,19 @@ struct SpecularSource {
 
 // The enclosing PSF directions of `outgoing` (a travel direction leaving face `f`'s front:
 // the mirrored direction, or the refracted one leaving a dielectric's twin) on which `f`
-// shows its front and has rays (`coverage(d, f)`), weights renormalised; returns how many.
-int specular_targets(const DirectionSet& dirs, const Face& f, const Vec3& outgoing,
-                     const Coverage& coverage, std::array<int, 3>& dir,
-                     std::array<double, 3>& weight);
+// shows its front and has rays (`coverage(d, f)`). An enclosing direction in which `f`
+// itself has no ray (a facet smaller than a ray pixel, as on a finely tessellated ball)
+// goes to the nearest face of f's chart that has rays there and shows its front: the light
+// moves by a facet instead of being lost. Each target names its face; returns how many
+// (weights renormalised).
+struct SpecularTarget {
+    int face = 0;
+    int direction = 0;
+    double weight = 0.0;
+};
+int chart_specular_targets(const Scene& scene, const DirectionSet& dirs, const Face& f,
+                           const Vec3& outgoing, const Coverage& coverage,
+                           std::array<SpecularTarget, 3>& out);
 
 // Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
 // zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).
