@@ -241,5 +241,33 @@ TEST(GlassTransport, BallLensFocusesAtTheParaxialFocalLength) {
     EXPECT_GT(peak, 10.0);
 }
 
+// Point and spot lights through absorbing glass (a faceted ball, whose facets' edges cut
+// beams and whose internal reflections chain): every watt is booked, each cycle, and what
+// the lights' beams leave unresolved (cut at a facet's edge, or a branch too weak to
+// follow) stays a small part of what they emit.
+TEST(GlassTransport, LedgerClosesWithPointAndSpotThroughGlass) {
+    const Scene scene = scene_from_json(R"({
+      "materials": {"white": {"diffuse": [0.5, 0.5, 0.5]},
+                    "glass": {"dielectric": {"ior": 1.5, "absorption": [0.5, 0.1, 0.0]}}},
+      "settings": {"texel_size": 0.15},
+      "objects": [
+        {"type": "polygon", "material": "white", "name": "floor",
+         "vertices": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]},
+        {"type": "sphere", "material": "glass", "center": [0, 0.5, 0], "radius": 0.3,
+         "subdivisions": 0, "smooth": false}],
+      "lights": [
+        {"type": "point", "position": [0.1, 1.7, 0.2], "power": [20, 15, 10]},
+        {"type": "spot", "position": [-0.4, 1.5, 0.1], "direction": [0.4, -1, -0.1],
+         "inner_deg": 10, "outer_deg": 25, "intensity": [4, 4, 4]}]})");
+    const auto t = run_transport(scene, params(33, 16, 4, 2));
+    for (const LedgerEntry& e : t->ledger()) {
+        EXPECT_LE(e.relative_error(), 1e-9) << format_ledger(e);
+        for (int c = 0; c < 3; ++c) EXPECT_LT(e.lost.cut_beam[c], 0.01 * e.emitted[c]);
+    }
+    const LedgerEntry& e = t->ledger().back();
+    std::printf("point + spot through glass: cut %.2e of the emission\n",
+                e.lost.cut_beam.x / e.emitted.x);
+}
+
 }  // namespace
 }  // namespace vlf
