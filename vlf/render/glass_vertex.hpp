@@ -13,6 +13,7 @@
 
 #include "vlf/core/fresnel.hpp"
 #include "vlf/core/math.hpp"
+#include "vlf/scene/glass.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
@@ -80,18 +81,6 @@ inline double shading_normal_correction(const Vec3& from, const Vec3& to, const 
     const double den = std::abs(glm::dot(from, ng)) * std::abs(glm::dot(to, ns));
     if (!(den > 0.0)) return 0.0;
     return std::abs(glm::dot(from, ns)) * std::abs(glm::dot(to, ng)) / den;
-}
-
-// Beer-Lambert transmittance exp(-sigma d_user) of a ray segment of normalised length
-// `length` that ended on face f: the segment ran inside glass when f is a dielectric's inner
-// face (its front looks into the glass, and rays meet fronts only). 1 otherwise.
-inline Rgb glass_transmittance(const Scene& scene, const Face& f, double length) {
-    if (!f.inner) return Rgb(1.0);
-    const Material& m = scene.material_of(f);
-    if (!m.is_absorbing()) return Rgb(1.0);
-    const double d_user = length / scene.normalisation.scale;
-    return Rgb(std::exp(-m.absorption.x * d_user), std::exp(-m.absorption.y * d_user),
-               std::exp(-m.absorption.z * d_user));
 }
 
 }  // namespace vlf

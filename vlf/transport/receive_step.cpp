@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "vlf/core/fresnel.hpp"
+#include "vlf/scene/glass.hpp"
 #include "vlf/scene/sealed_areas.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
@@ -207,7 +208,6 @@ void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, 
                           std::fill_n(w.slot_face.begin() + base, fr.covered, g.faces[k]);
                       });
     const Mat3& rot = pc.rotations[pd.d];
-    const double to_user = 1.0 / scene.normalisation.scale;
     auto depth = [&](const Face& f, double x, double y) {
         const Vec3 n = rot * f.normal;
         return (f.plane_offset - n.x * x - n.y * y) / n.z;
@@ -227,9 +227,8 @@ void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, 
                               const double x = (2.0 * (tile.s * pc.m + u) + 1.0) / pc.N - 1.0;
                               const double y = (2.0 * (tile.t * pc.m + v) + 1.0) / pc.N - 1.0;
                               const Face& from = scene.faces[w.slot_face[uint32_t(p)]];
-                              const double d =
-                                  std::abs(depth(face, x, y) - depth(from, x, y)) * to_user;
-                              const Rgb kept = arriving * glm::exp(-mat.absorption * d);
+                              const double d = std::abs(depth(face, x, y) - depth(from, x, y));
+                              const Rgb kept = arriving * glass_transmittance(scene, face, d);
                               res.absorbed += arriving - kept;
                               w.in[slot] = kept;
                           });

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "vlf/core/fresnel.hpp"
+#include "vlf/scene/glass.hpp"
 
 namespace vlf {
 
@@ -120,12 +121,9 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
                     out.absorbed += carried;
                     break;
                 }
-                if (f.inner && m.is_absorbing()) {
-                    const Rgb kept =
-                        carried * glm::exp(-m.absorption * (hit.t / scene.normalisation.scale));
-                    out.absorbed += carried - kept;
-                    carried = kept;
-                }
+                const Rgb kept = carried * glass_transmittance(scene, f, hit.t);
+                out.absorbed += carried - kept;
+                carried = kept;
                 const double eta = interface_eta(f.inner, m.ior);
                 const double R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
                 Vec3 refracted;
