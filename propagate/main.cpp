@@ -16,10 +16,14 @@
 #include "vlf/core/stopwatch.hpp"
 #include "vlf/field/field_stats.hpp"
 #include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/checkpoint.hpp"
 #include "vlf/transport/parameters.hpp"
 #include "vlf/transport/propagation.hpp"
 #include "vlf/transport/quality.hpp"
 #include "vlf/transport/report.hpp"
+#ifdef VLF_MPI
+#include "mpi_ranks.hpp"
+#endif
 
 namespace {
 
@@ -35,6 +39,8 @@ struct Options {
     bool quiet = false;
     bool no_deferred = false;
     bool no_resample = false;
+    std::string checkpoint;  // --checkpoint DIR
+    std::string resume;      // --resume DIR
     vlf::PropagateParams params;
 };
 
@@ -63,7 +69,11 @@ vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
     return q;
 }
 
-int run(Options o, const CLI::App& app) {
+int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
+    // With several ranks, rank 0 alone prints, writes the bake, the report and the
+    // checkpoints; every rank loads the scene and checks the input alike.
+    const bool lead = ranks.rank() == 0;
+    if (!lead) o.quiet = true;
     // What the process holds before any scene data: code, libraries, the runtime. The
     // report's peak_rss minus this is what the propagation itself needed.
     const int64_t startup_rss = vlf::current_rss_bytes();
@@ -81,6 +91,7 @@ int run(Options o, const CLI::App& app) {
         throw vlf::ParameterError("-o/--output: required unless --dry-run or --validate is given");
     if (!o.output.empty()) vlf::check_output_path(o.output);
     if (!o.report.empty()) vlf::check_output_path(o.report);
+    if (!o.checkpoint.empty()) vlf::check_output_path(o.checkpoint);
 
     vlf::LoadOptions load;
     load.texel_size_user = p.texel_size;
@@ -95,7 +106,7 @@ int run(Options o, const CLI::App& app) {
         return 0;
     }
     vlf::ThreadLimit limit(p.threads);
-    std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
+    if (lead) std::fputs(vlf::format_scene_summary(scene).c_str(), stdout);
 
     if (o.dry_run) {
         const vlf::FieldStats stats = vlf::measure_field(scene, p.field);
@@ -111,6 +122,18 @@ int run(Options o, const CLI::App& app) {
     }
 
     vlf::RunOptions run_opts;
+    // A checkpoint to continue from is checked against this scene and these parameters
+    // before any propagation work (checkpoint.hpp).
+    vlf::CheckpointInfo resume;
+    if (!o.resume.empty()) {
+        resume = vlf::check_checkpoint(o.resume, scene, p);
+        run_opts.resume = &resume;
+        if (lead) std::printf("resuming   %s after cycle %d\n", o.resume.c_str(), resume.cycle);
+    }
+    run_opts.checkpoint_dir = o.checkpoint;
+    run_opts.ranks = &ranks;
+    if (lead && ranks.size() > 1)
+        std::printf("ranks      %d (MPI; each a block of the directions)\n", ranks.size());
     run_opts.progress = !o.quiet && vlf::Progress::stderr_is_terminal();
     run_opts.on_cycle = [&](const vlf::LedgerEntry& e) {
         if (!o.quiet) {
@@ -120,6 +143,7 @@ int run(Options o, const CLI::App& app) {
         }
     };
     vlf::Propagation run = vlf::propagate(scene, p, run_opts);
+    if (!lead) return 0;
     const vlf::Stopwatch write_time;
     nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0, false);
     // The light field goes from the radiance maps to the file one direction at a time.
@@ -147,6 +171,13 @@ int run(Options o, const CLI::App& app) {
             double(run.transport->geometry_cache_bytes()) / (1 << 20),
             run.transport->cached_directions(), run.transport->directions().size(),
             static_cast<long long>(p.cache_budget_mib));
+    if (!o.quiet && !run.ranks.is_null())
+        for (const nlohmann::json& r : run.ranks)
+            std::printf("rank %-5d directions %d, passes %.2f s, sent %.1f MiB, peak %.1f MiB\n",
+                        r["rank"].get<int>(), r["directions"].get<int>(),
+                        r["passes_s"].get<double>(),
+                        double(r["bytes_sent"].get<uint64_t>()) / (1 << 20),
+                        double(r["peak_rss"].get<int64_t>()) / (1 << 20));
     if (!o.report.empty()) std::printf("report     %s\n", o.report.c_str());
     return 0;
 }
@@ -225,7 +256,25 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")
         ->capture_default_str();
+    app.add_option("--checkpoint", o.checkpoint,
+                   "Write the propagation state to this directory after every cycle "
+                   "(atomically; docs/cluster.md)");
+    app.add_option("--resume", o.resume,
+                   "Continue from the checkpoint in this directory (same scene and "
+                   "parameters; the bake is the same as an uninterrupted run's)");
     app.add_flag("-q,--quiet", o.quiet, "No progress bar");
 
-    return vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o, app); });
+#ifdef VLF_MPI
+    // Under mpirun or srun: the ranks share the directions (docs/cluster.md).
+    if (vlf::MpiRanks::launched()) {
+        vlf::MpiRanks ranks(&argc, &argv);
+        const int rc =
+            vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o, app, ranks); });
+        // An error on one rank would leave the others waiting in a reduction: end them all.
+        if (rc != 0 && ranks.size() > 1) ranks.abort(rc);
+        return rc;
+    }
+#endif
+    return vlf::cli_main(app, argc, argv, "propagate",
+                         [&] { return run(o, app, vlf::single_process()); });
 }

@@ -8,6 +8,7 @@
 #include "vlf/core/stopwatch.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/scene/texel_frame.hpp"
+#include "vlf/transport/checkpoint.hpp"
 #include "vlf/transport/report.hpp"
 #include "vlf/transport/resample.hpp"
 
@@ -22,30 +23,85 @@ bool settled(const LedgerEntry& e, double stop_unshot) {
     return true;
 }
 
+namespace {
+
+// Every rank's share of the work, time and memory, in rank order (on every rank).
+nlohmann::json rank_report(Ranks& ranks, const Transport& t, const Propagation& run) {
+    const TransportTimings& tm = t.timings();
+    const nlohmann::json mine = {
+        {"rank", ranks.rank()},
+        {"directions", t.first_direction(ranks.rank() + 1) - t.first_direction(ranks.rank())},
+        {"first_direction", t.first_direction(ranks.rank())},
+        {"passes_s", tm.passes},
+        {"specular_s", tm.specular},
+        {"cpu_in_passes_s", tm.rasterise + tm.clipping + tm.exchange + tm.transfer},
+        {"total_s", run.seconds_total},
+        {"bytes_sent", ranks.bytes_sent()},
+        {"cycles_run", t.cycles_done() - run.resumed_after},
+        {"geometry_cache_bytes", t.geometry_cache_bytes()},
+        {"transport_bytes", t.memory_bytes()},
+        {"peak_rss", peak_rss_bytes()}};
+    nlohmann::json all = nlohmann::json::array();
+    for (const std::string& part : ranks.all_gather(mine.dump()))
+        all.push_back(nlohmann::json::parse(part));
+    return all;
+}
+
+}  // namespace
+
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts) {
     const Stopwatch total;
     Propagation run;
     run.transport = std::make_unique<Transport>(scene, params);
-    Progress bar("propagating", run.transport->work(params.cycles), opts.progress);
+    Ranks& ranks = opts.ranks != nullptr ? *opts.ranks : single_process();
+    run.transport->set_ranks(ranks);
+    const bool lead = ranks.rank() == 0;  // writes checkpoints, resamples
+    bool done = false;
+    if (opts.resume != nullptr) {
+        const Stopwatch restore;
+        restore_checkpoint(*opts.resume, *run.transport);
+        run.seconds_checkpoint += restore.seconds();
+        run.resumed_after = run.transport->cycles_done();
+        for (const LedgerEntry& e : run.transport->ledger()) {
+            if (opts.on_cycle) opts.on_cycle(e);
+            done = done || settled(e, params.stop_unshot);
+        }
+    }
+    const int first = run.transport->cycles_done() + 1;
+    // Each rank advances the bar for its own directions.
+    const int l = run.transport->directions().size();
+    const int own = run.transport->first_direction(ranks.rank() + 1) -
+                    run.transport->first_direction(ranks.rank());
+    Progress bar("propagating",
+                 (run.transport->work(params.cycles) - run.transport->work(first - 1)) * own / l,
+                 opts.progress);
     run.transport->set_progress(&bar);
-    for (int c = 1; c <= params.cycles; ++c) {
+    for (int c = first; !done && c <= params.cycles; ++c) {
         run.transport->run_cycle(c == params.cycles);
+        if (!opts.checkpoint_dir.empty()) {
+            const Stopwatch write;
+            run.transport->share_radiance_totals();
+            if (lead) write_checkpoint(opts.checkpoint_dir, scene, *run.transport);
+            run.seconds_checkpoint += write.seconds();
+        }
         const LedgerEntry& e = run.transport->ledger().back();
         if (opts.on_cycle) opts.on_cycle(e);
         if (settled(e, params.stop_unshot)) break;
     }
     run.transport->set_progress(nullptr);
     bar.finish();
+    run.transport->share_radiance_totals();
     run.transport->fold_unshot_into_total();
     // VLF §5: after the last cycle, resample the specular total maps along real
-    // reflection paths (backward ray tracing), once.
-    if (params.resample && scene.specular_face_count() > 0) {
+    // reflection paths (backward ray tracing), once (by the rank that writes the bake).
+    if (lead && params.resample && scene.specular_face_count() > 0) {
         const Stopwatch resample;
         const RayCaster caster(scene);
         resample_specular(*run.transport, caster);
         run.seconds_resample = resample.seconds();
     }
     run.seconds_total = total.seconds();
+    if (ranks.size() > 1) run.ranks = rank_report(ranks, *run.transport, run);
     return run;
 }
 
@@ -109,7 +165,9 @@ void set_write_time(nlohmann::json& timings, const Propagation& run, double writ
     const double total = run.seconds_total + write_seconds;
     timings["write"] = write_seconds;
     timings["total"] = total;
-    timings["other"] = total - tm.wall() - run.seconds_resample - write_seconds;
+    timings["checkpoint"] = run.seconds_checkpoint;
+    timings["other"] =
+        total - tm.wall() - run.seconds_resample - run.seconds_checkpoint - write_seconds;
 }
 
 nlohmann::json propagation_report(const Scene& scene, const PropagateParams& params,
@@ -153,6 +211,17 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
                                  {"root_beams", t.light_beams().roots},
                                  {"leaf_beams", t.light_beams().leaves},
                                  {"seconds", t.light_beams().seconds}};
+    if (!run.ranks.is_null()) {
+        // Load balance: the slowest rank's passes against the mean (1 = even).
+        double worst = 0.0, sum = 0.0;
+        for (const nlohmann::json& r : run.ranks) {
+            worst = std::max(worst, r["passes_s"].get<double>());
+            sum += r["passes_s"].get<double>();
+        }
+        report["ranks"] = {{"count", run.ranks.size()},
+                           {"imbalance", sum > 0 ? worst * double(run.ranks.size()) / sum : 1.0},
+                           {"per_rank", run.ranks}};
+    }
     if (surfaces) report["surfaces"] = surface_report(scene, tex);
     return report;
 }

@@ -14,15 +14,27 @@
 
 namespace vlf {
 
+struct CheckpointInfo;
+
 struct RunOptions {
     bool progress = false;                             // progress bar on stderr
     std::function<void(const LedgerEntry&)> on_cycle;  // called after every cycle
+    // Not empty: the state is written there after every cycle (checkpoint.hpp).
+    std::string checkpoint_dir;
+    // Not null: a checked checkpoint (check_checkpoint) to continue from; on_cycle is
+    // called for its cycles first, as if they had just run.
+    const CheckpointInfo* resume = nullptr;
+    // Not null: the ranks sharing the run (ranks.hpp); rank 0 writes the checkpoints.
+    Ranks* ranks = nullptr;
 };
 
 struct Propagation {
     std::unique_ptr<Transport> transport;
     double seconds_total = 0.0;
-    double seconds_resample = 0.0;  // backward ray-traced resampling (VLF §5)
+    double seconds_resample = 0.0;    // backward ray-traced resampling (VLF §5)
+    double seconds_checkpoint = 0.0;  // writing checkpoints (and reading the resumed one)
+    int resumed_after = 0;            // cycles restored from a checkpoint (0: none)
+    nlohmann::json ranks;             // with several ranks: each one's share, time, memory
 };
 
 // Runs up to params.cycles cycles, stopping early once settled(ledger, stop_unshot).

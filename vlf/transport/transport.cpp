@@ -96,27 +96,22 @@ void Transport::shoot_small_emitters(const RayCaster& caster) {
     // Enough rays that every texel in view gets a few hundred of them.
     const uint64_t K =
         std::clamp<uint64_t>(uint64_t(256) * m_tex.texels(), uint64_t(1) << 20, uint64_t(1) << 25);
-    std::vector<ChunkResult>& chunks = m_work->chunks;
-    chunks.resize(kWave);
     std::vector<SpecularSource> none;
     for (int chart : m_small_emitters) {
         const size_t b = m_tex.begin(chart), n = m_tex.count(chart);
         const Rgb power = TextureMaps::sum(m_tex.current, b, n);
         for (size_t t = b; t < b + n; ++t) m_tex.current[t] = Rgb(0.0);  // shot now
         // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
-        for (int wave = 0; wave < kChunks; wave += kWave) {
-            parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
-                ChunkResult& res = chunks[c - wave];
-                res.reset(m_tex.texels());
+        run_chunks(
+            [&](long c, ChunkResult& res) {
                 ShotResult out{res.next};
                 shoot_rays(m_scene, caster, m_tex, chart, power, K * uint64_t(c) / kChunks,
                            K * uint64_t(c + 1) / kChunks, K, out);
                 res.absorbed = out.absorbed;
                 res.absorbed_back = out.absorbed_back;
                 res.escaped = out.escaped;
-            });
-            reduce_chunks(std::min(kWave, kChunks - wave), none);
-        }
+            },
+            none);
     }
     m_timings.passes += shot.seconds();
 }
@@ -130,30 +125,20 @@ void Transport::shoot_lights(const RayCaster& caster) {
     // rim pooling and the filter, which are there for the field's beams (run_cycle).
     std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
     std::swap(held, m_tex.next);
-    std::vector<ChunkResult>& chunks = m_work->chunks;
-    chunks.resize(kWave);
     std::vector<SpecularSource> none;
-    std::vector<Rgb> emitted(kWave);
-    std::vector<int64_t> leaves(kWave);
     // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
-    for (int wave = 0; wave < kChunks; wave += kWave) {
-        parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
-            ChunkResult& res = chunks[c - wave];
-            res.reset(m_tex.texels());
+    run_chunks(
+        [&](long c, ChunkResult& res) {
             LightShotResult out{res.next};
             beams.shoot(K * c / kChunks, K * (c + 1) / kChunks, out);
             res.absorbed = out.absorbed;
             res.absorbed_back = out.absorbed_back;
             res.escaped = out.escaped;
             res.lost = out.lost;
-            emitted[c - wave] = out.emitted;
-            leaves[c - wave] = out.leaves;
-        });
-        const int count = std::min(kWave, kChunks - wave);
-        reduce_chunks(count, none);
-        for (int k = 0; k < count; ++k) m_running.emitted += emitted[k];
-        for (int k = 0; k < count; ++k) m_light_stats.leaves += leaves[k];
-    }
+            res.emitted = out.emitted;
+            res.leaves = out.leaves;
+        },
+        none);
     m_light_stats.roots = K;
     m_light_stats.seconds = shot.seconds();
     m_light_next = std::move(m_tex.next);
@@ -225,13 +210,9 @@ void Transport::run_pass(int pass, double share) {
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
-    std::vector<ChunkResult>& chunks = m_work->chunks;
-    chunks.resize(kWave);
     std::vector<SpecularSource> sources;
-    for (int wave = 0; wave < kChunks; wave += kWave) {
-        parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
-            ChunkResult& res = chunks[c - wave];
-            res.reset(m_tex.texels());
+    run_chunks(
+        [&](long c, ChunkResult& res) {
             Scratch& w = m_work->scratch.local();
             const int d0 = static_cast<int>(c * l / kChunks),
                       d1 = static_cast<int>((c + 1) * l / kChunks);
@@ -239,9 +220,9 @@ void Transport::run_pass(int pass, double share) {
                 if (m_progress != nullptr) m_progress->advance();
                 run_direction(pc, inputs, cache, d, w, res);
             }
-        });
-        reduce_chunks(std::min(kWave, kChunks - wave), sources);
-    }
+        },
+        sources);
+    if (!directions.norms_known) share_charts(directions);
     m_timings.passes += pass_time.seconds();
     // Then the reflected light of the pass into the mirrors' unshot maps (specular.hpp).
     const Stopwatch specular;
@@ -261,6 +242,8 @@ void Transport::reduce_chunks(int count, std::vector<SpecularSource>& sources) {
         m_running.escaped += c.escaped;
         m_running.absorbed_back += c.absorbed_back;
         m_running.lost += c.lost;
+        m_running.emitted += c.emitted;
+        m_light_stats.leaves += c.leaves;
         m_timings.rasterise += c.times.rasterise;
         m_timings.clipping += c.times.clipping;
         m_timings.exchange += c.times.exchange;
@@ -277,6 +260,7 @@ void Transport::run_cycle(bool last) {
     Stopwatch sw;
     LedgerEntry e;
     e.cycle = cycles_done() + 1;
+    m_ranks->set_cycle(e.cycle);
     if (e.cycle == 1) {
         load_emission(m_running);
         if (!m_small_emitters.empty() || !m_scene.lights.empty()) {

@@ -27,6 +27,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -37,6 +38,7 @@
 #include "vlf/scene/scene.hpp"
 #include "vlf/transport/ledger.hpp"
 #include "vlf/transport/parameters.hpp"
+#include "vlf/transport/ranks.hpp"
 #include "vlf/transport/rim_pools.hpp"
 #include "vlf/transport/texel_clip.hpp"
 
@@ -60,6 +62,9 @@ struct ChartCosine {
     double cosine;
 };
 struct SpecularSource;
+namespace transport_detail {
+struct ChunkResult;
+}
 
 // Wall-clock seconds of each phase of the propagation (they add up to the transport's
 // wall time), and the CPU seconds, summed over worker threads, inside the passes.
@@ -94,6 +99,16 @@ class Transport {
     void fold_unshot_into_total();
     // Advanced by one for every direction of every pass processed (may be null).
     void set_progress(class Progress* progress) { m_progress = progress; }
+    // The processes sharing this propagation (ranks.hpp; default: this one alone). Set
+    // before the first cycle; every rank must run the same calls in the same order.
+    void set_ranks(Ranks& ranks) { m_ranks = &ranks; }
+    const Ranks& ranks() const { return *m_ranks; }
+    // The directions this rank owns (all of them for one process).
+    int first_direction(int rank) const;
+    // With several ranks: every rank's L_T of its own directions to every rank
+    // (transport_ranks.cpp), so each holds the whole radiance maps; before a checkpoint
+    // and after the last cycle. Nothing to do for one process.
+    void share_radiance_totals();
     // Directions processed by `cycles` cycles (every pass of each): the unit of progress.
     int64_t work(int cycles) const;
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }
@@ -119,6 +134,15 @@ class Transport {
     // Ledger values are kept in normalised units internally; this converts a power to
     // the user's units (area scale^-2).
     double to_user_power() const;
+
+    // Everything run_cycle reads next, between two cycles (transport_state.cpp): the
+    // texture and radiance maps, deferral, the ledger and its running sums, each pass's
+    // send normalisers and recorded charts, the lights' first shot. Not the geometry cache
+    // (rebuilt alike) nor the timings. load_state() into a transport made from the same
+    // scene and parameters continues bit for bit as the saved one would have
+    // (checkpoint.hpp); a section of the wrong size throws Error naming it.
+    void save_state(class StateWriter& out) const;
+    void load_state(class StateReader& in);
 
   private:
     // The direction set of one pass: rotations to +z and the diffuse send normalisers.
@@ -147,6 +171,13 @@ class Transport {
     void run_pass(int pass, double share);
     // Adds the first `count` chunk accumulators of the workspace, in chunk order.
     void reduce_chunks(int count, std::vector<SpecularSource>& sources);
+    // Runs compute(c, result) for every chunk c this rank owns and reduces all kChunks
+    // chunks in chunk order into P^N, the running ledger and `sources`, whatever the
+    // number of ranks and threads (transport_ranks.cpp).
+    void run_chunks(const std::function<void(long, transport_detail::ChunkResult&)>& compute,
+                    std::vector<SpecularSource>& sources);
+    // After a pass's first run on several ranks: every direction's recorded charts.
+    void share_charts(Pass& pass);
     // End of a cycle (VLF §4.1): P^T += P^N, P^C <- P^N (deferred faces: +=), L_U <- L_U
     // next; adds the power left unshot and the power deferred.
     void swap_maps(Rgb& unshot, Rgb& deferred);
@@ -175,6 +206,7 @@ class Transport {
     TransportTimings m_timings;
     std::atomic<int64_t> m_cache_used{0};  // bytes of geometry in m_cache
     class Progress* m_progress = nullptr;
+    Ranks* m_ranks = &single_process();
     std::vector<std::unique_ptr<DirectionGeometry>> m_cache;  // pass * l + d
     struct Workspace;
     std::unique_ptr<Workspace> m_work;

@@ -109,12 +109,15 @@ struct ChunkResult {
     std::vector<Rgb> next;  // P^N
     Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
     NumericalLoss lost;
+    Rgb emitted{0.0};    // the lights' first shot: power of the root beams
+    int64_t leaves = 0;  // the lights' first shot: leaf beams traced
     std::vector<SpecularSource> sources;
     StepTimes times;
     // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
     void reset(size_t texels) {
         next.assign(texels, Rgb(0.0));
-        absorbed = absorbed_back = escaped = Rgb(0.0);
+        absorbed = absorbed_back = escaped = emitted = Rgb(0.0);
+        leaves = 0;
         lost = NumericalLoss{};
         sources.clear();
         times = StepTimes{};

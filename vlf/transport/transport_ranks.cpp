@@ -1,0 +1,217 @@
+// transport_ranks.cpp — a cycle's chunks shared among ranks (ranks.hpp; issue 13) with the
+// single process's summation order kept exactly, so every number of ranks and threads
+// gives the same bake, bit for bit (DESIGN §5 Parallelism).
+//
+// Rank r computes its block of chunks [c0, c1) in parallel (threads) and keeps their
+// accumulators. The reduction is then a chain in rank order: rank r receives P^N and the
+// running ledger with chunks [0, c0) already added (in order) from rank r - 1, adds its own
+// chunks in order, and passes them on; the last rank broadcasts the result. Floating-point
+// addition is not associative, so this is the one order that reproduces the single
+// process's ((P^N + chunk 0) + chunk 1) + ... exactly. The specular sources are gathered
+// in rank order, which is chunk order, and every rank gathers them into the mirrors' maps
+// identically (gather_specular), so L_U stays the same on every rank; L_T of a direction
+// is written only by the rank owning it and shared when it is needed
+// (share_radiance_totals).
+#include <cstring>
+
+#include "vlf/core/error.hpp"
+#include "vlf/core/parallel.hpp"
+#include "vlf/transport/transport_internal.hpp"
+
+namespace vlf {
+
+using namespace transport_detail;
+
+namespace {
+
+int chunk_begin(int rank, int ranks) {
+    return static_cast<int>(int64_t(rank) * kChunks / ranks);
+}
+
+// A byte buffer of plain values and arrays, and its reader.
+struct Packer {
+    std::string bytes;
+    template <class T>
+    void put(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        bytes.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    }
+    template <class T>
+    void put_array(const std::vector<T>& v) {
+        put(uint64_t(v.size()));
+        bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    }
+};
+struct Unpacker {
+    const std::string& bytes;
+    size_t at = 0;
+    template <class T>
+    void get(T& v) {
+        VLF_CHECK(at + sizeof(T) <= bytes.size());
+        std::memcpy(&v, bytes.data() + at, sizeof(T));
+        at += sizeof(T);
+    }
+    template <class T>
+    void get_array(std::vector<T>& v) {
+        uint64_t n = 0;
+        get(n);
+        VLF_CHECK(at + n * sizeof(T) <= bytes.size());
+        v.resize(n);
+        std::memcpy(v.data(), bytes.data() + at, n * sizeof(T));
+        at += n * sizeof(T);
+    }
+    bool done() const { return at == bytes.size(); }
+};
+
+void pack(Packer& p, const SpecularSource& s) {
+    p.put(s.face);
+    p.put(s.rotation);
+    p.put(s.resolution);
+    p.put(s.i0);
+    p.put(s.j0);
+    p.put(s.width);
+    p.put(s.height);
+    p.put_array(s.radiance);
+    p.put_array(s.covered);
+    p.put(s.power);
+    p.put(s.targets);
+    p.put(s.target_direction);
+    p.put(s.target_weight);
+}
+
+void unpack(Unpacker& u, SpecularSource& s) {
+    u.get(s.face);
+    u.get(s.rotation);
+    u.get(s.resolution);
+    u.get(s.i0);
+    u.get(s.j0);
+    u.get(s.width);
+    u.get(s.height);
+    u.get_array(s.radiance);
+    u.get_array(s.covered);
+    u.get(s.power);
+    u.get(s.targets);
+    u.get(s.target_direction);
+    u.get(s.target_weight);
+}
+
+}  // namespace
+
+int Transport::first_direction(int rank) const {
+    const int l = m_dirs.size();
+    return static_cast<int>(int64_t(chunk_begin(rank, m_ranks->size())) * l / kChunks);
+}
+
+void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& compute,
+                           std::vector<SpecularSource>& sources) {
+    std::vector<ChunkResult>& chunks = m_work->chunks;
+    const int K = m_ranks->size();
+    if (K == 1) {
+        // Chunks run in waves; each wave's accumulators are reduced in chunk order before
+        // the next wave starts, so only a wave's worth of P^N accumulators is alive and the
+        // sums are the same as reducing all kChunks at the end.
+        chunks.resize(kWave);
+        for (int wave = 0; wave < kChunks; wave += kWave) {
+            parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
+                ChunkResult& res = chunks[c - wave];
+                res.reset(m_tex.texels());
+                compute(c, res);
+            });
+            reduce_chunks(std::min(kWave, kChunks - wave), sources);
+        }
+        return;
+    }
+    VLF_CHECK(K <= kChunks);
+    const int r = m_ranks->rank();
+    const int c0 = chunk_begin(r, K), c1 = chunk_begin(r + 1, K);
+    chunks.resize(size_t(c1 - c0));
+    parallel_for(c0, c1, [&](long c) {
+        ChunkResult& res = chunks[c - c0];
+        res.reset(m_tex.texels());
+        compute(c, res);
+    });
+    // The chain in rank order: what the chunks before ours added, then ours, in order.
+    const uint64_t next_bytes = m_tex.next.size() * sizeof(Rgb);
+    auto transfer = [&](auto&& op, int peer) {
+        op(m_tex.next.data(), next_bytes, peer);
+        op(&m_running, sizeof(m_running), peer);
+        op(&m_light_stats.leaves, sizeof(m_light_stats.leaves), peer);
+    };
+    if (r > 0)
+        transfer([&](void* p, uint64_t n, int peer) { m_ranks->receive(p, n, peer); }, r - 1);
+    std::vector<SpecularSource> mine;
+    reduce_chunks(c1 - c0, mine);
+    if (r < K - 1)
+        transfer([&](void* p, uint64_t n, int peer) { m_ranks->send(p, n, peer); }, r + 1);
+    transfer([&](void* p, uint64_t n, int root) { m_ranks->broadcast(p, n, root); }, K - 1);
+    // The specular sources in rank order = chunk order.
+    Packer packed;
+    packed.put(uint64_t(mine.size()));
+    for (const SpecularSource& s : mine) pack(packed, s);
+    mine.clear();
+    for (const std::string& part : m_ranks->all_gather(packed.bytes)) {
+        Unpacker u{part};
+        uint64_t n = 0;
+        u.get(n);
+        for (uint64_t k = 0; k < n; ++k) {
+            SpecularSource s;
+            unpack(u, s);
+            sources.push_back(std::move(s));
+        }
+        VLF_CHECK(u.done());
+    }
+}
+
+void Transport::share_charts(Pass& pass) {
+    const int K = m_ranks->size();
+    if (K == 1) return;
+    const int r = m_ranks->rank();
+    Packer packed;
+    for (int d = first_direction(r); d < first_direction(r + 1); ++d) {
+        packed.put(uint64_t(pass.charts[d].size()));
+        for (const ChartCosine& cc : pass.charts[d]) {
+            packed.put(cc.chart);
+            packed.put(cc.cosine);
+        }
+    }
+    const std::vector<std::string> parts = m_ranks->all_gather(packed.bytes);
+    for (int q = 0; q < K; ++q) {
+        Unpacker u{parts[q]};
+        for (int d = first_direction(q); d < first_direction(q + 1); ++d) {
+            uint64_t n = 0;
+            u.get(n);
+            std::vector<ChartCosine> list(n);
+            for (ChartCosine& cc : list) {
+                u.get(cc.chart);
+                u.get(cc.cosine);
+            }
+            if (q != r) pass.charts[d] = std::move(list);
+        }
+        VLF_CHECK(u.done());
+    }
+}
+
+void Transport::share_radiance_totals() {
+    const int K = m_ranks->size();
+    if (K == 1) return;
+    const int r = m_ranks->rank();
+    for (RadianceMaps* maps : {&m_spec, &m_other}) {
+        if (maps->faces.empty()) continue;
+        const size_t S = maps->faces.size();
+        auto range = [&](int q) {
+            return std::pair<uint64_t, uint64_t>{maps->offset[size_t(first_direction(q)) * S],
+                                                 maps->offset[size_t(first_direction(q + 1)) * S]};
+        };
+        const auto [b, e] = range(r);
+        const std::string mine(reinterpret_cast<const char*>(maps->total.data() + b),
+                               (e - b) * sizeof(RgbF));
+        const std::vector<std::string> parts = m_ranks->all_gather(mine);
+        for (int q = 0; q < K; ++q) {
+            const auto [qb, qe] = range(q);
+            VLF_CHECK(parts[q].size() == (qe - qb) * sizeof(RgbF));
+            std::memcpy(maps->total.data() + qb, parts[q].data(), parts[q].size());
+        }
+    }
+}
+
+}  // namespace vlf
