@@ -11,6 +11,7 @@ packages=(
   libglfw3-dev libgl-dev libopengl-dev
   xvfb libgl1-mesa-dri xauth
   openexr gnuplot-nox python3 python3-jsonschema linux-perf heaptrack
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

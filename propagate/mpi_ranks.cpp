@@ -1,0 +1,124 @@
+// mpi_ranks.cpp — vlf::Ranks over MPI (mpi_ranks.hpp).
+#include "mpi_ranks.hpp"
+
+#include <fmt/format.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "vlf/core/error.hpp"
+
+namespace vlf {
+
+namespace {
+
+// MPI counts are int: large buffers go in pieces of at most 1 GiB.
+constexpr uint64_t kPiece = uint64_t(1) << 30;
+
+// The line a rank prints when the job ends it (SIGTERM from mpirun after another rank
+// died, or a batch system's time limit): prepared outside the handler, written inside it.
+char g_stop_line[256] = {};
+
+extern "C" void on_terminate(int) {
+    const ssize_t ignored = ::write(STDERR_FILENO, g_stop_line, std::strlen(g_stop_line));
+    (void)ignored;
+    ::_exit(3);
+}
+
+}  // namespace
+
+bool MpiRanks::launched() {
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+        if (std::getenv(v) != nullptr) return true;
+    return false;
+}
+
+MpiRanks::MpiRanks(int* argc, char*** argv) {
+    int provided = 0;
+    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &m_size);
+    set_cycle(0);
+    std::signal(SIGTERM, on_terminate);
+}
+
+MpiRanks::~MpiRanks() {
+    MPI_Finalize();
+}
+
+void MpiRanks::set_cycle(int cycle) {
+    m_cycle = cycle;
+    std::snprintf(g_stop_line, sizeof(g_stop_line),
+                  "propagate: rank %d of %d stopped by the job in cycle %d (another rank "
+                  "failed, or the job was cancelled); resume with --resume\n",
+                  m_rank, m_size, cycle);
+}
+
+void MpiRanks::check(int rc, const char* what, int peer) const {
+    if (rc == MPI_SUCCESS) return;
+    char text[MPI_MAX_ERROR_STRING] = {};
+    int len = 0;
+    MPI_Error_string(rc, text, &len);
+    throw Error(fmt::format("rank {} of {}: {} with rank {} failed in cycle {}: {}", m_rank, m_size,
+                            what, peer, m_cycle, text));
+}
+
+void MpiRanks::send(const void* data, uint64_t bytes, int peer) {
+    const char* p = static_cast<const char*>(data);
+    uint64_t at = 0;
+    do {
+        const int n = int(std::min(kPiece, bytes - at));
+        check(MPI_Send(p + at, n, MPI_BYTE, peer, 0, MPI_COMM_WORLD), "sending", peer);
+        at += uint64_t(n);
+    } while (at < bytes);
+    m_sent += bytes;
+}
+
+void MpiRanks::receive(void* data, uint64_t bytes, int peer) {
+    char* p = static_cast<char*>(data);
+    uint64_t at = 0;
+    do {
+        const int n = int(std::min(kPiece, bytes - at));
+        check(MPI_Recv(p + at, n, MPI_BYTE, peer, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+              "receiving", peer);
+        at += uint64_t(n);
+    } while (at < bytes);
+}
+
+void MpiRanks::broadcast(void* data, uint64_t bytes, int root) {
+    char* p = static_cast<char*>(data);
+    for (uint64_t at = 0; at < bytes; at += kPiece)
+        check(MPI_Bcast(p + at, int(std::min(kPiece, bytes - at)), MPI_BYTE, root, MPI_COMM_WORLD),
+              "broadcast", root);
+    if (m_rank == root) m_sent += bytes * uint64_t(m_size - 1);
+}
+
+std::vector<std::string> MpiRanks::all_gather(const std::string& mine) {
+    // Every rank's size, then every rank's bytes broadcast from it, in rank order.
+    std::vector<uint64_t> sizes(size_t(m_size), 0);
+    const uint64_t own = mine.size();
+    check(MPI_Allgather(&own, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD),
+          "gathering sizes", -1);
+    m_sent += sizeof(own) * uint64_t(m_size - 1);
+    std::vector<std::string> all(static_cast<size_t>(m_size));
+    for (int q = 0; q < m_size; ++q) {
+        all[q] = q == m_rank ? mine : std::string(sizes[q], '\0');
+        broadcast(all[q].data(), sizes[q], q);
+    }
+    return all;
+}
+
+void MpiRanks::abort(int code) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, code);
+    std::_Exit(code);
+}
+
+}  // namespace vlf
