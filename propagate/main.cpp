@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 #include "vlf/bake/bake.hpp"
 #include "vlf/core/cli_main.hpp"
@@ -74,6 +76,10 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     // checkpoints; every rank loads the scene and checks the input alike.
     const bool lead = ranks.rank() == 0;
     if (!lead) o.quiet = true;
+    if (ranks.size() > vlf::kMaxRanks)
+        throw vlf::ParameterError(fmt::format(
+            "mpirun -np {}: at most {} ranks (each owns a block of the {} chunks of directions)",
+            ranks.size(), vlf::kMaxRanks, vlf::kMaxRanks));
     // What the process holds before any scene data: code, libraries, the runtime. The
     // report's peak_rss minus this is what the propagation itself needed.
     const int64_t startup_rss = vlf::current_rss_bytes();
@@ -268,8 +274,16 @@ int main(int argc, char** argv) {
     // Under mpirun or srun: the ranks share the directions (docs/cluster.md).
     if (vlf::MpiRanks::launched()) {
         vlf::MpiRanks ranks(&argc, &argv);
-        const int rc =
-            vlf::cli_main(app, argc, argv, "propagate", [&] { return run(o, app, ranks); });
+        const int rc = vlf::cli_main(app, argc, argv, "propagate", [&] {
+            try {
+                return run(o, app, ranks);
+            } catch (...) {
+                // Bad input fails on every rank alike: let rank 0 say it once and end the
+                // job; another rank speaks only when the failure is its own.
+                if (ranks.rank() != 0) std::this_thread::sleep_for(std::chrono::seconds(2));
+                throw;
+            }
+        });
         // An error on one rank would leave the others waiting in a reduction: end them all.
         if (rc != 0 && ranks.size() > 1) ranks.abort(rc);
         return rc;

@@ -54,6 +54,11 @@ MpiRanks::~MpiRanks() {
 
 void MpiRanks::set_cycle(int cycle) {
     m_cycle = cycle;
+    // Before the first cycle there is nothing to resume: the rank that failed says why.
+    if (cycle == 0) {
+        g_stop_line[0] = '\0';
+        return;
+    }
     std::snprintf(g_stop_line, sizeof(g_stop_line),
                   "propagate: rank %d of %d stopped by the job in cycle %d (another rank "
                   "failed, or the job was cancelled); resume with --resume\n",

@@ -15,6 +15,9 @@
 
 namespace vlf {
 
+// At most this many ranks: one per chunk of directions (transport_internal.hpp kChunks).
+inline constexpr int kMaxRanks = 16;
+
 class Ranks {
   public:
     virtual ~Ranks() = default;

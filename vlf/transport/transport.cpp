@@ -71,7 +71,8 @@ double Transport::to_user_power() const {
 int64_t Transport::memory_bytes() const {
     return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
            m_other.bytes() + m_coverage.bytes() +
-           static_cast<int64_t>(kWave * m_tex.texels() * sizeof(Rgb)) + geometry_cache_bytes();
+           static_cast<int64_t>(m_work->chunks.capacity() * m_tex.texels() * sizeof(Rgb)) +
+           geometry_cache_bytes();
 }
 
 void Transport::load_emission(LedgerEntry& e) {

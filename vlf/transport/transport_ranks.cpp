@@ -22,6 +22,8 @@ namespace vlf {
 
 using namespace transport_detail;
 
+static_assert(kMaxRanks == kChunks, "a rank owns at least one chunk");
+
 namespace {
 
 int chunk_begin(int rank, int ranks) {
