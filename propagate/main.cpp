@@ -68,6 +68,7 @@ vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
     q.store_all_rays = p.store_all_rays;
     q.cache_budget_mib = p.cache_budget_mib;
     q.seed = p.seed;
+    q.chunks = p.chunks;
     return q;
 }
 
@@ -76,10 +77,6 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     // checkpoints; every rank loads the scene and checks the input alike.
     const bool lead = ranks.rank() == 0;
     if (!lead) o.quiet = true;
-    if (ranks.size() > vlf::kMaxRanks)
-        throw vlf::ParameterError(fmt::format(
-            "mpirun -np {}: at most {} ranks (each owns a block of the {} chunks of directions)",
-            ranks.size(), vlf::kMaxRanks, vlf::kMaxRanks));
     // What the process holds before any scene data: code, libraries, the runtime. The
     // report's peak_rss minus this is what the propagation itself needed.
     const int64_t startup_rss = vlf::current_rss_bytes();
@@ -89,6 +86,11 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     p.deferred = !o.no_deferred;
     p.resample = !o.no_resample;
     vlf::validate(p);
+    if (ranks.size() > p.chunks)
+        throw vlf::ParameterError(
+            fmt::format("mpirun -np {}: more ranks than --chunks {} (each rank owns a block of "
+                        "the chunks of directions; give --chunks {} or more)",
+                        ranks.size(), p.chunks, ranks.size()));
     if (app.count("--texel-size") > 0 && !(o.params.texel_size > 0))
         throw vlf::ParameterError(
             fmt::format("--texel-size: {} must be a positive length (leave it out for the default)",
@@ -261,6 +263,10 @@ int main(int argc, char** argv) {
                    "cycle: least memory); speed and memory only, the bake is the same")
         ->capture_default_str();
     app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")
+        ->capture_default_str();
+    app.add_option("--chunks", o.params.chunks,
+                   "Fixed chunks of directions summed in order: the bake depends on it, not on "
+                   "threads or MPI ranks; at most this many ranks (docs/cluster.md)")
         ->capture_default_str();
     app.add_option("--checkpoint", o.checkpoint,
                    "Write the propagation state to this directory after every cycle "

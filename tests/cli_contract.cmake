@@ -49,6 +49,8 @@ expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --texel-divisions 0)
 expect_err_contains("--texel-divisions")
 expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --chart-angle 90)
 expect_err_contains("--chart-angle")
+expect_exit(2 ${PROPAGATE} ${SCENE} --dry-run --chunks 0)
+expect_err_contains("--chunks")
 # A preset with an explicit option on top: the option wins, the rest is the preset's.
 expect_exit(0 ${PROPAGATE} ${SCENE} --dry-run --quality draft --directions 33 --report "${WORK_DIR}/q.json")
 file(READ "${WORK_DIR}/q.json" qreport)

@@ -2,7 +2,8 @@
 # MPI ranks (issue 13, docs/cluster.md), run by ctest when propagate is built with VLF_MPI:
 #   identical  mpirun -np 2 and -np 3 (3 does not divide l) and -np 4 give a bake whose
 #              files are byte-identical to the single process's, on a scene with mirrors,
-#              perturbation and the filter, and on one with point and spot lights;
+#              perturbation and the filter, and on one with point and spot lights; so do
+#              4 ranks with --chunks 5; more ranks than chunks are refused;
 #   killed     one rank of a 2-rank job is killed after the first checkpoint: the job
 #              ends (no hang) with a message naming the rank, and the resumed job gives
 #              the single process's bake.
@@ -41,6 +42,15 @@ identical)
     grep -q "\"rank\": $((np - 1))" np$np.json || fail "report of -np $np lacks rank $((np - 1))"
     same_bake np$np.vlf one.vlf
   done
+  # Another chunk count is another bake, the same on any number of ranks up to it.
+  "$propagate" "${mirrors[@]}" --chunks 5 -o c5.vlf > /dev/null
+  "${mpirun[@]}" -np 4 "$propagate" "${mirrors[@]}" --chunks 5 -o c5np4.vlf > /dev/null
+  same_bake c5np4.vlf c5.vlf
+  if "${mpirun[@]}" -np 3 "$propagate" "${mirrors[@]}" --chunks 2 -o few.vlf > /dev/null \
+    2> few.err; then
+    fail "3 ranks for 2 chunks were not refused"
+  fi
+  grep -q "more ranks than --chunks 2" few.err || fail "no clear refusal: $(cat few.err)"
   lights=("$src/tests/scenes/lights-open-room.json" -l 33 -N 16 -m 4 -c 2 -q)
   "$propagate" "${lights[@]}" -o lights1.vlf > /dev/null
   "${mpirun[@]}" -np 3 "$propagate" "${lights[@]}" -o lights3.vlf > /dev/null

@@ -49,6 +49,8 @@ void validate(const PropagateParams& p) {
     if (p.supersample < 1 || p.supersample > 8)
         throw ParameterError(
             fmt::format("--supersample: {} is out of range (1 to 8)", p.supersample));
+    if (p.chunks < 1 || p.chunks > 4096)
+        throw ParameterError(fmt::format("--chunks: {} is out of range (1 to 4096)", p.chunks));
     if (p.cache_budget_mib < 0 || p.cache_budget_mib > (int64_t(1) << 24))
         throw ParameterError(fmt::format("--cache-budget: {} MiB is out of range (0 to 16777216)",
                                          p.cache_budget_mib));
@@ -76,16 +78,17 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["store_all_rays"] = p.store_all_rays;
     j["seed"] = p.seed;
     j["cache_budget_mib"] = p.cache_budget_mib;
+    j["chunks"] = p.chunks;
     return j;
 }
 
 PropagateParams propagate_params_from_json(const JsonReader& r) {
-    r.only_keys({"directions",      "resolution",    "tile",           "tiles_per_side",
-                 "scheme",          "quality",       "texel_size",     "texel_divisions",
-                 "chart_angle_deg", "cycles",        "stop_unshot",    "threads",
-                 "deferred",        "perturbations", "perturb_cycles", "filter_sigma",
-                 "supersample",     "resample",      "store_all_rays", "seed",
-                 "cache_budget_mib"});
+    r.only_keys({"directions",       "resolution",    "tile",           "tiles_per_side",
+                 "scheme",           "quality",       "texel_size",     "texel_divisions",
+                 "chart_angle_deg",  "cycles",        "stop_unshot",    "threads",
+                 "deferred",         "perturbations", "perturb_cycles", "filter_sigma",
+                 "supersample",      "resample",      "store_all_rays", "seed",
+                 "cache_budget_mib", "chunks"});
     PropagateParams p;
     p.field.directions = r.required("directions").integer();
     p.field.resolution = r.required("resolution").integer();
@@ -111,6 +114,8 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
     p.store_all_rays = r.required("store_all_rays").boolean();
     p.seed = r.required("seed").unsigned64();
     p.cache_budget_mib = r.required("cache_budget_mib").integer64();
+    // Bakes before issue 13 were all made with 16 chunks.
+    if (const auto chunks = r.optional("chunks")) p.chunks = chunks->integer();
     try {
         validate(p);
     } catch (const ParameterError& e) {

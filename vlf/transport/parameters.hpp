@@ -40,6 +40,11 @@ struct PropagateParams {
     // across cycles; directions beyond it are rebuilt every cycle, as in the paper.
     // 0: keep nothing (least memory). Changes speed and memory only, never the bake.
     int64_t cache_budget_mib = 3072;
+    // The directions (and the first shot of lights and small lamps) are cut into this many
+    // fixed chunks whose sums are added in chunk order: the bake depends on it, never on the
+    // number of threads or MPI ranks; an MPI job has at most this many ranks (issue 13,
+    // docs/cluster.md).
+    int chunks = 16;
 };
 
 // Throws ParameterError naming the option ("--tile: ...") for any out-of-range value.

@@ -3,10 +3,10 @@
 // operations, each called by every rank in the same order, so the library builds and runs
 // without MPI; the MPI implementation lives with the executable (propagate/mpi_ranks.cpp).
 //
-// Rank r of K owns the contiguous block of chunks [r * kChunks / K, (r + 1) * kChunks / K)
-// (transport_internal.hpp), i.e. a contiguous block of directions. The reductions of a
-// cycle keep the single process's order exactly (transport_ranks.cpp), so every K gives
-// the same bake, bit for bit.
+// Rank r of K owns the contiguous block of chunks [r * C / K, (r + 1) * C / K) of the C =
+// PropagateParams::chunks chunks, i.e. a contiguous block of directions (so K <= C). The reductions
+// of a cycle keep the single process's order exactly (transport_ranks.cpp), so every K gives the
+// same bake, bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -14,9 +14,6 @@
 #include <vector>
 
 namespace vlf {
-
-// At most this many ranks: one per chunk of directions (transport_internal.hpp kChunks).
-inline constexpr int kMaxRanks = 16;
 
 class Ranks {
   public:

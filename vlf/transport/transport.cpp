@@ -97,6 +97,7 @@ void Transport::shoot_small_emitters(const RayCaster& caster) {
     // Enough rays that every texel in view gets a few hundred of them.
     const uint64_t K =
         std::clamp<uint64_t>(uint64_t(256) * m_tex.texels(), uint64_t(1) << 20, uint64_t(1) << 25);
+    const uint64_t chunks = uint64_t(m_params.chunks);
     std::vector<SpecularSource> none;
     for (int chart : m_small_emitters) {
         const size_t b = m_tex.begin(chart), n = m_tex.count(chart);
@@ -106,8 +107,8 @@ void Transport::shoot_small_emitters(const RayCaster& caster) {
         run_chunks(
             [&](long c, ChunkResult& res) {
                 ShotResult out{res.next};
-                shoot_rays(m_scene, caster, m_tex, chart, power, K * uint64_t(c) / kChunks,
-                           K * uint64_t(c + 1) / kChunks, K, out);
+                shoot_rays(m_scene, caster, m_tex, chart, power, K * uint64_t(c) / chunks,
+                           K * uint64_t(c + 1) / chunks, K, out);
                 res.absorbed = out.absorbed;
                 res.absorbed_back = out.absorbed_back;
                 res.escaped = out.escaped;
@@ -122,6 +123,7 @@ void Transport::shoot_lights(const RayCaster& caster) {
     const Stopwatch shot;
     const LightBeams beams(m_scene, caster, m_tex, m_polygons, m_rim_reach);
     const int64_t K = beams.roots();
+    const int64_t chunks = m_params.chunks;
     // The lights' deposits are exact at rims and shadow edges: they join P^N after the
     // rim pooling and the filter, which are there for the field's beams (run_cycle).
     std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
@@ -131,7 +133,7 @@ void Transport::shoot_lights(const RayCaster& caster) {
     run_chunks(
         [&](long c, ChunkResult& res) {
             LightShotResult out{res.next};
-            beams.shoot(K * c / kChunks, K * (c + 1) / kChunks, out);
+            beams.shoot(K * c / chunks, K * (c + 1) / chunks, out);
             res.absorbed = out.absorbed;
             res.absorbed_back = out.absorbed_back;
             res.escaped = out.escaped;
@@ -210,13 +212,13 @@ void Transport::run_pass(int pass, double share) {
                               .budget = reused ? m_params.cache_budget_mib << 20 : 0};
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
-    // are the same as reducing all kChunks at the end (DESIGN §5 Parallelism).
+    // are the same as reducing all chunks at the end (DESIGN §5 Parallelism).
     std::vector<SpecularSource> sources;
     run_chunks(
         [&](long c, ChunkResult& res) {
             Scratch& w = m_work->scratch.local();
-            const int d0 = static_cast<int>(c * l / kChunks),
-                      d1 = static_cast<int>((c + 1) * l / kChunks);
+            const int d0 = static_cast<int>(c * l / m_params.chunks),
+                      d1 = static_cast<int>((c + 1) * l / m_params.chunks);
             for (int d = d0; d < d1; ++d) {
                 if (m_progress != nullptr) m_progress->advance();
                 run_direction(pc, inputs, cache, d, w, res);

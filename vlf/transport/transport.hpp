@@ -171,9 +171,9 @@ class Transport {
     void run_pass(int pass, double share);
     // Adds the first `count` chunk accumulators of the workspace, in chunk order.
     void reduce_chunks(int count, std::vector<SpecularSource>& sources);
-    // Runs compute(c, result) for every chunk c this rank owns and reduces all kChunks
-    // chunks in chunk order into P^N, the running ledger and `sources`, whatever the
-    // number of ranks and threads (transport_ranks.cpp).
+    // Runs compute(c, result) for every chunk c this rank owns and reduces all
+    // params().chunks chunks in chunk order into P^N, the running ledger and `sources`, whatever
+    // the number of ranks and threads (transport_ranks.cpp).
     void run_chunks(const std::function<void(long, transport_detail::ChunkResult&)>& compute,
                     std::vector<SpecularSource>& sources);
     // After a pass's first run on several ranks: every direction's recorded charts.

@@ -72,9 +72,9 @@ void for_fragments(const DirectionGeometry& g, std::pair<uint32_t, uint32_t> ran
 
 namespace transport_detail {
 
-// Directions are split into this many fixed chunks, independent of the thread count;
-// chunk accumulators are reduced in chunk order (determinism).
-inline constexpr int kChunks = 16;
+// Directions are split into PropagateParams::chunks fixed chunks, independent of the
+// thread count and of the MPI ranks; chunk accumulators are reduced in chunk order
+// (determinism; transport_ranks.cpp).
 // Chunks processed (and their P^N accumulators alive) at a time; any value gives the same
 // sums, since the reduction is always in chunk order.
 inline constexpr int kWave = 4;

@@ -12,6 +12,8 @@
 // identically (gather_specular), so L_U stays the same on every rank; L_T of a direction
 // is written only by the rank owning it and shared when it is needed
 // (share_radiance_totals).
+#include <fmt/format.h>
+
 #include <cstring>
 
 #include "vlf/core/error.hpp"
@@ -22,12 +24,10 @@ namespace vlf {
 
 using namespace transport_detail;
 
-static_assert(kMaxRanks == kChunks, "a rank owns at least one chunk");
-
 namespace {
 
-int chunk_begin(int rank, int ranks) {
-    return static_cast<int>(int64_t(rank) * kChunks / ranks);
+int chunk_begin(int rank, int ranks, int chunks) {
+    return static_cast<int>(int64_t(rank) * chunks / ranks);
 }
 
 // A byte buffer of plain values and arrays, and its reader.
@@ -101,31 +101,34 @@ void unpack(Unpacker& u, SpecularSource& s) {
 
 int Transport::first_direction(int rank) const {
     const int l = m_dirs.size();
-    return static_cast<int>(int64_t(chunk_begin(rank, m_ranks->size())) * l / kChunks);
+    const int C = m_params.chunks;
+    return static_cast<int>(int64_t(chunk_begin(rank, m_ranks->size(), C)) * l / C);
 }
 
 void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& compute,
                            std::vector<SpecularSource>& sources) {
     std::vector<ChunkResult>& chunks = m_work->chunks;
-    const int K = m_ranks->size();
+    const int K = m_ranks->size(), C = m_params.chunks;
     if (K == 1) {
         // Chunks run in waves; each wave's accumulators are reduced in chunk order before
         // the next wave starts, so only a wave's worth of P^N accumulators is alive and the
-        // sums are the same as reducing all kChunks at the end.
+        // sums are the same as reducing all chunks at the end.
         chunks.resize(kWave);
-        for (int wave = 0; wave < kChunks; wave += kWave) {
-            parallel_for(wave, std::min(wave + kWave, kChunks), [&](long c) {
+        for (int wave = 0; wave < C; wave += kWave) {
+            parallel_for(wave, std::min(wave + kWave, C), [&](long c) {
                 ChunkResult& res = chunks[c - wave];
                 res.reset(m_tex.texels());
                 compute(c, res);
             });
-            reduce_chunks(std::min(kWave, kChunks - wave), sources);
+            reduce_chunks(std::min(kWave, C - wave), sources);
         }
         return;
     }
-    VLF_CHECK(K <= kChunks);
+    if (K > C)
+        throw ParameterError(fmt::format(
+            "--chunks: {} chunks cannot be shared by {} ranks (at most one rank per chunk)", C, K));
     const int r = m_ranks->rank();
-    const int c0 = chunk_begin(r, K), c1 = chunk_begin(r + 1, K);
+    const int c0 = chunk_begin(r, K, C), c1 = chunk_begin(r + 1, K, C);
     chunks.resize(size_t(c1 - c0));
     parallel_for(c0, c1, [&](long c) {
         ChunkResult& res = chunks[c - c0];
