@@ -468,13 +468,15 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
         out.lost.cut_beam += power;
         return;
     }
+    double transmitted = 1.0;  // the glass's transmittance on this segment (channel mean)
     if (g.medium >= 0 && cls != -1) {
         const Material& glass = m_scene.materials[size_t(g.medium)];
         if (glass.is_absorbing()) {
-            const Rgb kept =
-                power * glm::exp(-glass.absorption * (hit.t / m_scene.normalisation.scale));
+            const Rgb T = glm::exp(-glass.absorption * (hit.t / m_scene.normalisation.scale));
+            const Rgb kept = power * T;
             out.absorbed += power - kept;
             power = kept;
+            transmitted = (T.x + T.y + T.z) / 3.0;
         }
     }
     if (cls == -1) {
@@ -501,8 +503,8 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
     double R = fresnel_dielectric(-glm::dot(dir, n), eta);
     Vec3 refracted;
     if (!refract(dir, n, eta, refracted)) R = 1.0;
-    go_on(s, r, g, depth, f, false, power * R, R, out);
-    if (R < 1.0) go_on(s, r, g, depth, f, true, power * (1.0 - R), 1.0 - R, out);
+    go_on(s, r, g, depth, f, false, power * R, R * transmitted, out);
+    if (R < 1.0) go_on(s, r, g, depth, f, true, power * (1.0 - R), (1.0 - R) * transmitted, out);
 }
 
 // A beam on from specular face f, reflected or refracted, carrying `power` (its branch's

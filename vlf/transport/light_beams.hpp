@@ -74,8 +74,10 @@ class LightBeams {
     // absorbed.
     static constexpr int kMaxBounces = 16;
     // A branch of a beam split by glass is followed while its weight (the product of the
-    // reflectances and transmittances on its way) is at least this; the rest is booked as
-    // lost.cut_beam (internal reflections of internal reflections of a ball lens).
+    // reflectances, transmittances and glass transmittances exp(-sigma d) on its way: the
+    // part of its light's power it still carries) is at least this; the rest is booked as
+    // lost.cut_beam (internal reflections of internal reflections of a ball lens, light
+    // guided along absorbing glass by total internal reflection).
     static constexpr double kMinWeight = 1e-3;
 
   private:
@@ -102,7 +104,7 @@ class LightBeams {
         Event events[kMaxBounces];
         int count = 0;
         int medium = -1;      // the dielectric material it runs inside, or -1
-        double weight = 1.0;  // the product of the reflectances and transmittances so far
+        double weight = 1.0;  // the part of the light's power it carries (kMinWeight)
     };
     struct Rect {
         int side;  // cube face (point, spot); 0 (directional)
