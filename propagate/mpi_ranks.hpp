@@ -1,6 +1,8 @@
 // mpi_ranks.hpp — the ranks of an MPI job (Open MPI) behind vlf::Ranks (ranks.hpp), built
 // with the CMake option VLF_MPI. Only the main thread calls MPI (MPI_THREAD_FUNNELED);
-// oneTBB's workers inside each rank never do.
+// oneTBB's workers inside each rank never do. Every call is nonblocking and waited for by
+// polling with a back-off, so a rank waiting in the chain does not spin on a core that
+// another rank (or its own threads) could use.
 //
 // A failed MPI call (MPI_ERRORS_RETURN) throws vlf::Error naming this rank, the peer and the
 // cycle. A rank whose peer died is usually ended by mpirun first: Open MPI's mpirun notices
