@@ -280,6 +280,19 @@ int main(int argc, char** argv) {
     // Under mpirun or srun: the ranks share the directions (docs/cluster.md).
     if (vlf::MpiRanks::launched()) {
         vlf::MpiRanks ranks(&argc, &argv);
+        if (ranks.rank() != 0) {
+            // The command line is the same on every rank: rank 0 prints its help or its
+            // error; the others stay silent (and are ended by rank 0's abort on an error).
+            try {
+                app.parse(argc, argv);
+                app.clear();
+            } catch (const CLI::CallForHelp&) {
+                return 0;
+            } catch (const CLI::ParseError&) {
+                std::this_thread::sleep_for(std::chrono::seconds(2));
+                ranks.abort(2);
+            }
+        }
         const int rc = vlf::cli_main(app, argc, argv, "propagate", [&] {
             try {
                 return run(o, app, ranks);
