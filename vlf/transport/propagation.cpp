@@ -80,7 +80,7 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
         run.transport->run_cycle(c == params.cycles);
         if (!opts.checkpoint_dir.empty()) {
             const Stopwatch write;
-            run.transport->share_radiance_totals();
+            run.transport->gather_radiance_totals();
             if (lead) write_checkpoint(opts.checkpoint_dir, scene, *run.transport);
             run.seconds_checkpoint += write.seconds();
         }
@@ -90,7 +90,7 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     }
     run.transport->set_progress(nullptr);
     bar.finish();
-    run.transport->share_radiance_totals();
+    run.transport->gather_radiance_totals();
     run.transport->fold_unshot_into_total();
     // VLF §5: after the last cycle, resample the specular total maps along real
     // reflection paths (backward ray tracing), once (by the rank that writes the bake).

@@ -105,10 +105,11 @@ class Transport {
     const Ranks& ranks() const { return *m_ranks; }
     // The directions this rank owns (all of them for one process).
     int first_direction(int rank) const;
-    // With several ranks: every rank's L_T of its own directions to every rank
-    // (transport_ranks.cpp), so each holds the whole radiance maps; before a checkpoint
-    // and after the last cycle. Nothing to do for one process.
-    void share_radiance_totals();
+    // With several ranks: every rank's L_T of its own directions to rank 0
+    // (transport_ranks.cpp), which then holds the whole radiance maps (the others keep only
+    // their own directions' L_T current); before a checkpoint and after the last cycle.
+    // Nothing to do for one process.
+    void gather_radiance_totals();
     // Directions processed by `cycles` cycles (every pass of each): the unit of progress.
     int64_t work(int cycles) const;
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }

@@ -10,8 +10,8 @@
 // process's ((P^N + chunk 0) + chunk 1) + ... exactly. The specular sources are gathered
 // in rank order, which is chunk order, and every rank gathers them into the mirrors' maps
 // identically (gather_specular), so L_U stays the same on every rank; L_T of a direction
-// is written only by the rank owning it and shared when it is needed
-// (share_radiance_totals).
+// is written only by the rank owning it and sent to rank 0 when it is needed
+// (gather_radiance_totals).
 #include <fmt/format.h>
 
 #include <cstring>
@@ -196,25 +196,26 @@ void Transport::share_charts(Pass& pass) {
     }
 }
 
-void Transport::share_radiance_totals() {
+void Transport::gather_radiance_totals() {
     const int K = m_ranks->size();
     if (K == 1) return;
     const int r = m_ranks->rank();
     for (RadianceMaps* maps : {&m_spec, &m_other}) {
         if (maps->faces.empty()) continue;
         const size_t S = maps->faces.size();
+        // Directions are contiguous in the maps: a rank's part is one range of rays.
         auto range = [&](int q) {
             return std::pair<uint64_t, uint64_t>{maps->offset[size_t(first_direction(q)) * S],
                                                  maps->offset[size_t(first_direction(q + 1)) * S]};
         };
-        const auto [b, e] = range(r);
-        const std::string mine(reinterpret_cast<const char*>(maps->total.data() + b),
-                               (e - b) * sizeof(RgbF));
-        const std::vector<std::string> parts = m_ranks->all_gather(mine);
-        for (int q = 0; q < K; ++q) {
-            const auto [qb, qe] = range(q);
-            VLF_CHECK(parts[q].size() == (qe - qb) * sizeof(RgbF));
-            std::memcpy(maps->total.data() + qb, parts[q].data(), parts[q].size());
+        if (r == 0) {
+            for (int q = 1; q < K; ++q) {
+                const auto [qb, qe] = range(q);
+                m_ranks->receive(maps->total.data() + qb, (qe - qb) * sizeof(RgbF), q);
+            }
+        } else {
+            const auto [b, e] = range(r);
+            m_ranks->send(maps->total.data() + b, (e - b) * sizeof(RgbF), 0);
         }
     }
 }
