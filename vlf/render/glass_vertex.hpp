@@ -15,6 +15,7 @@
 #include "vlf/core/math.hpp"
 #include "vlf/scene/glass.hpp"
 #include "vlf/scene/scene.hpp"
+#include "vlf/scene/specular_turn.hpp"
 
 namespace vlf {
 
@@ -30,44 +31,26 @@ struct GlassStep {
 // interface_eta). Total internal reflection has F = 1. The path's weight is unchanged
 // either way: F / F and (1 - F) / (1 - F) — the estimator stays unbiased and no light is
 // lost at the interface (pbrt-v4 §9.5.2, the lobe chosen by F).
-// Both turn about the smooth shading normal (Scene::shading_normal, a sphere's vertex
-// normals) with the walkthrough's raytrace rule (render.cpp), so the reference sees the
-// same smooth glass: a reflection the shading normal would send through the face's plane is
-// taken about the geometric normal, and so is a refraction (F recomputed with it) that the
-// shading normal would send along or back out of the face.
+// Both turn by the engine's one rule (scene/specular_turn.hpp): about the smooth shading
+// normal, or the face's where that would cross its plane the wrong way.
 // The (n_t / n_i)^2 radiance scaling of refraction (Veach §5.2) is left out: it cancels on
 // every path whose two ends (camera or light, and the surfaces they see) lie outside glass,
 // which is every path of a scene whose diffuse faces are all in air.
 // `u` is uniform in [0, 1); `eps` the origin offset (normalised units).
-inline GlassStep glass_scatter(const Scene& scene, const Face& f, const Material& m, const Vec3& x,
-                               const Vec3& travel, double u, double eps) {
+inline GlassStep glass_scatter(const Scene& scene, const Face& f, const Vec3& x, const Vec3& travel,
+                               double u, double eps) {
     GlassStep s;
-    const Vec3& ng = f.normal;
-    const Vec3 ns = scene.shading_normal(f, x);
-    const double eta = interface_eta(f.inner, m.ior);
-    double reflectance = fresnel_dielectric(-glm::dot(travel, ns), eta);
-    Vec3 t(0.0), nt = ns;
-    bool through = reflectance < 1.0 && refract(travel, ns, eta, t) && glm::dot(t, ng) < 0.0;
-    if (reflectance < 1.0 && !through) {
-        nt = ng;
-        reflectance = fresnel_dielectric(-glm::dot(travel, ng), eta);
-        through = reflectance < 1.0 && refract(travel, ng, eta, t);
-    }
-    if (through && u >= reflectance) {
+    const SpecularTurn turn = specular_turn(scene, f, x, travel);
+    if (turn.refracts && u >= turn.R) {
         s.refracted = true;
-        s.dir = t;
-        s.normal = nt;
-        s.origin = x - eps * ng;  // behind the face: into the glass, or out of it
+        s.dir = turn.refracted;
+        s.normal = turn.refract_normal;
+        s.origin = x - eps * f.normal;  // behind the face: into the glass, or out of it
         return s;
     }
-    s.normal = ns;
-    s.dir = reflect(travel, ns);
-    if (glm::dot(s.dir, ng) <= 0.0) {
-        s.normal = ng;
-        s.dir = reflect(travel, ng);
-    }
-    s.dir = glm::normalize(s.dir);
-    s.origin = x + eps * ng;
+    s.dir = turn.reflected;
+    s.normal = turn.reflect_normal;
+    s.origin = x + eps * f.normal;
     return s;
 }
 

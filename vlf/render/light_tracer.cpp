@@ -196,7 +196,7 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
         const Material& m = m_scene.material_of(f);
         beta *= glass_transmittance(m_scene, f, hit.t);
         if (m.dielectric) {
-            const GlassStep g = glass_scatter(m_scene, f, m, hit.point, dir, rng.uniform(), kEps);
+            const GlassStep g = glass_scatter(m_scene, f, hit.point, dir, rng.uniform(), kEps);
             beta *= shading_normal_correction(-dir, g.dir, g.normal, n);
             dir = g.dir;
             o = g.origin;

@@ -288,7 +288,7 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
         const Material& m = m_scene.material_of(f);
         beta *= glass_transmittance(m_scene, f, hit.t);  // the segment ran inside glass
         if (m.dielectric) {  // Fresnel-chosen reflection or refraction; no NEE here
-            const GlassStep g = glass_scatter(m_scene, f, m, hit.point, dir, rng.uniform(), kEps);
+            const GlassStep g = glass_scatter(m_scene, f, hit.point, dir, rng.uniform(), kEps);
             dir = g.dir;
             o = g.origin;
             bsdf_pdf = 0.0;  // a delta lobe: emission seen next counts in full

@@ -7,13 +7,13 @@
 #include <limits>
 
 #include "vlf/core/error.hpp"
-#include "vlf/core/fresnel.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/field/lightmap.hpp"
 #include "vlf/render/camera.hpp"
 #include "vlf/render/pathtrace.hpp"
 #include "vlf/scene/raycaster.hpp"
+#include "vlf/scene/specular_turn.hpp"
 
 namespace vlf {
 
@@ -116,8 +116,7 @@ struct Renderer::Impl {
     // ray's radiance plus (1 - R) times the refracted ray's (core/fresnel.hpp; R = 1 on total
     // internal reflection), each branch followed while its throughput is at least
     // kMinBranchWeight; Beer-Lambert absorption on every segment inside glass. Reflection
-    // and refraction turn about the shading normal (Scene::shading_normal); a direction it
-    // would send through the face's geometric plane is taken about the geometric normal.
+    // and refraction turn by the engine's one rule (scene/specular_turn.hpp).
     Rgb raytrace(const Vec3& o, const Vec3& dir, int max_depth) const {
         return trace(o, glm::normalize(dir), 0, max_depth, Rgb(1.0), nullptr, o);
     }
@@ -143,36 +142,26 @@ struct Renderer::Impl {
             }
             L += beta * diffuse_part(f, hit.point);
             if (!m.is_specular() || depth >= max_depth) break;
-            const Vec3 ns = scene.shading_normal(f, hit.point);
-            Vec3 r = reflect(dir, ns);
-            if (glm::dot(r, f.normal) <= 0.0) r = reflect(dir, f.normal);
-            r = glm::normalize(r);
+            const SpecularTurn turn = specular_turn(scene, f, hit.point, dir);
             const Vec3 above = hit.point + kEps * f.normal, below = hit.point - kEps * f.normal;
             if (!m.dielectric) {
                 beta *= m.specular;
                 o = above;
                 from = hit.point;
-                dir = r;
+                dir = turn.reflected;
                 continue;
             }
-            const double eta = interface_eta(f.inner, m.ior);
-            double R = fresnel_dielectric(-glm::dot(dir, ns), eta);
-            Vec3 t;
-            if (R < 1.0 && !(refract(dir, ns, eta, t) && glm::dot(t, f.normal) < 0.0)) {
-                // The shading normal would refract along or out of the face: use the plane's.
-                R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
-                if (R < 1.0 && !refract(dir, f.normal, eta, t)) R = 1.0;
-            }
+            const double R = turn.R;
             const Rgb through = weight * beta * (1.0 - R);
-            if (R < 1.0 && max_channel(through) >= kMinBranchWeight)
+            if (turn.refracts && max_channel(through) >= kMinBranchWeight)
                 L += beta * (1.0 - R) *
-                     trace(below, t, depth + 1, max_depth, through, f.inner ? nullptr : &m,
-                           hit.point);
+                     trace(below, turn.refracted, depth + 1, max_depth, through,
+                           f.inner ? nullptr : &m, hit.point);
             beta *= R;
             if (max_channel(weight * beta) < kMinBranchWeight) break;
             o = above;
             from = hit.point;
-            dir = r;
+            dir = turn.reflected;
         }
         return L;
     }

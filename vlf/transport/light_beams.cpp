@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vlf/core/fresnel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/scene/sealed_areas.hpp"
+#include "vlf/scene/specular_turn.hpp"
 #include "vlf/transport/small_emitters.hpp"
 
 namespace vlf {
@@ -59,22 +59,6 @@ int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const V
     const Face& f = scene.faces[hit.face];
     if (glm::dot(f.normal, d) >= 0.0) return -2;  // a back face
     return f.chart;
-}
-
-// The normal a ray d turns about at point p of specular face f: the interpolated shading
-// normal (Scene::shading_normal: a tessellated sphere reflects and refracts as a sphere),
-// unless it would send the reflected ray behind the face's plane or the refracted one not
-// through it (at a silhouette); then the plane's.
-Vec3 turning_normal(const Scene& scene, const Face& f, const Vec3& p, const Vec3& d) {
-    const Vec3 n = scene.shading_normal(f, p);
-    if (n == f.normal) return n;
-    if (glm::dot(d, n) >= 0.0 || glm::dot(reflect(d, n), f.normal) <= 0.0) return f.normal;
-    const Material& m = scene.material_of(f);
-    Vec3 t;
-    if (m.dielectric && refract(d, n, interface_eta(f.inner, m.ior), t) &&
-        glm::dot(t, f.normal) >= 0.0)
-        return f.normal;
-    return n;
 }
 
 }  // namespace
@@ -262,10 +246,12 @@ LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side,
         const double to_plane = (f.plane_offset - glm::dot(f.normal, t.o)) / denom;
         t.o += to_plane * t.d;
         t.length += to_plane;
-        const Vec3 n = turning_normal(m_scene, f, t.o, t.d);
+        const SpecularTurn turn = specular_turn(m_scene, f, t.o, t.d);  // the engine's rule
         if (!g.events[e].refract) {
-            t.d = glm::normalize(reflect(t.d, n));
-        } else if (!refract(t.d, n, interface_eta(f.inner, m_scene.material_of(f).ior), t.d)) {
+            t.d = turn.reflected;
+        } else if (turn.refracts) {
+            t.d = turn.refracted;
+        } else {
             t.cls = -3;  // totally reflected where the beam's centre was refracted
             return t;
         }
@@ -498,11 +484,7 @@ void LightBeams::land(const Source& s, const Rect& r, const Segment& g, int dept
                   (m.specular.x + m.specular.y + m.specular.z) / 3.0, out);
         return;
     }
-    const Vec3 n = turning_normal(m_scene, f, hit.point, dir);
-    const double eta = interface_eta(f.inner, m.ior);
-    double R = fresnel_dielectric(-glm::dot(dir, n), eta);
-    Vec3 refracted;
-    if (!refract(dir, n, eta, refracted)) R = 1.0;
+    const double R = specular_turn(m_scene, f, hit.point, dir).R;
     go_on(s, r, g, depth, f, false, power * R, R * transmitted, out);
     if (R < 1.0) go_on(s, r, g, depth, f, true, power * (1.0 - R), (1.0 - R) * transmitted, out);
 }

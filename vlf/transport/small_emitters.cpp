@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vlf/core/fresnel.hpp"
 #include "vlf/scene/glass.hpp"
+#include "vlf/scene/specular_turn.hpp"
 
 namespace vlf {
 
@@ -124,14 +124,9 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
                 const Rgb kept = carried * glass_transmittance(scene, f, hit.t);
                 out.absorbed += carried - kept;
                 carried = kept;
-                const double eta = interface_eta(f.inner, m.ior);
-                const double R = fresnel_dielectric(-glm::dot(dir, f.normal), eta);
-                Vec3 refracted;
+                const SpecularTurn turn = specular_turn(scene, f, hit.point, dir);
                 const double u = radical_inverse(k * 17 + uint64_t(bounce) + 1, 11);
-                if (u >= R && refract(dir, f.normal, eta, refracted))
-                    dir = refracted;
-                else
-                    dir = glm::reflect(dir, f.normal);
+                dir = turn.refracts && u >= turn.R ? turn.refracted : turn.reflected;
                 from = hit.point;
                 continue;
             }
@@ -142,7 +137,7 @@ void shoot_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& 
                 break;
             }
             carried = reflected;
-            dir = glm::reflect(dir, f.normal);
+            dir = specular_turn(scene, f, hit.point, dir).reflected;
             from = hit.point;
         }
     }
