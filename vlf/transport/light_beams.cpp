@@ -307,8 +307,11 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         width = std::min(width, s.parallel ? std::max(r.u1 - r.u0, r.v1 - r.v0)
                                            : std::max(r.u1 - r.u0, r.v1 - r.v0) * tr[0].length);
     bool split = across && width > kEdgeTexels * m_texel;
+    // A corner ray that left the specular path (cls -3) stopped where it left it: it
+    // spans no footprint.
+    const bool cut = std::count(cls + 1, cls + 5, -3) > 0;
     Vec3 foot[4];
-    const bool foot_ok = cls[0] >= 0 && footprint(hit[0].face, o, d, foot);
+    const bool foot_ok = cls[0] >= 0 && !cut && footprint(hit[0].face, o, d, foot);
     // Only a face that keeps light in texels needs the beam narrower than a texel: at a
     // mirror or glass the beam goes on whole (its quarters are traced afresh through it
     // where they land, and split there as they need).
@@ -345,7 +348,6 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
                               {r.side, um, r.u1, vm, r.v1}};
         double w[4];
         child_weights(s, r, w);
-        const double sum = w[0] + w[1] + w[2] + w[3];
         // The edges' midpoints: bottom, right, top, left.
         const Traced b = cast(s, g, r.side, um, r.v0), rt = cast(s, g, r.side, r.u1, vm),
                      t = cast(s, g, r.side, um, r.v1), l = cast(s, g, r.side, r.u0, vm);
@@ -353,6 +355,25 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
                                       {b, tr[2], rt, tr[0]},
                                       {l, tr[0], t, tr[4]},
                                       {tr[0], rt, tr[3], t}};
+        // On a specular path, a quarter whose corner rays all left the path (past a rim
+        // where the path split, cls -3) lies in the part of the beam that the split gave to
+        // the rim's other side (rim_share there): the quarters still on the path share the
+        // beam's power.
+        if (g.count > 0) {
+            double kept = 0.0;
+            for (int k = 0; k < 4; ++k) {
+                bool off = true;
+                for (int c = 0; c < 4; ++c) off = off && corners[k][c].cls == -3;
+                if (!off) kept += w[k];
+            }
+            if (kept > 0.0)
+                for (int k = 0; k < 4; ++k) {
+                    bool off = true;
+                    for (int c = 0; c < 4; ++c) off = off && corners[k][c].cls == -3;
+                    if (off) w[k] = 0.0;
+                }
+        }
+        const double sum = w[0] + w[1] + w[2] + w[3];
         for (int k = 0; k < 4; ++k)
             trace(s, kids[k], g, power * (sum > 0.0 ? w[k] / sum : 0.25), depth + 1, out,
                   corners[k]);
@@ -375,10 +396,14 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
     // farther one, or the void, gets the rest), so edges aligned with the beam grid do not
     // all fall on one side.
     Vec3 other_foot[4];
-    const bool other_ok = cls[other] >= 0 && footprint(hit[other].face, o, d, other_foot);
+    const bool other_ok = cls[other] >= 0 && !cut && footprint(hit[other].face, o, d, other_foot);
     const bool centre_near = cls[0] >= 0 && (cls[other] < 0 || hit[0].t <= hit[other].t);
     double share = 0.0;  // the centre's part of the beam
-    if (centre_near)
+    if (cls[0] == -3 || cls[other] == -3)
+        // The part of the beam that left the path past a rim was given to the rim's other
+        // side where the path split (rim_share there): the part on the path takes it all.
+        share = cls[0] == -3 ? 0.0 : 1.0;
+    else if (centre_near)
         share = foot_ok ? rim_share(hit[0].face, foot) : 1.0;
     else if (cls[other] >= 0)
         share = 1.0 - (other_ok ? rim_share(hit[other].face, other_foot) : 1.0);
