@@ -53,14 +53,6 @@ Vec3 cube_direction(int side, double u, double v) {
     return d;
 }
 
-int classify(const Scene& scene, const RayCaster& caster, const Vec3& o, const Vec3& d, double tmin,
-             RayHit& hit) {
-    if (!caster.intersect(o, d, tmin, 1e30, hit)) return -1;  // leaves the scene
-    const Face& f = scene.faces[hit.face];
-    if (glm::dot(f.normal, d) >= 0.0) return -2;  // a back face
-    return f.chart;
-}
-
 }  // namespace
 
 double cube_solid_angle(double u0, double u1, double v0, double v1) {
@@ -231,9 +223,28 @@ LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side,
     // put exactly on the face's plane (the ray caster works in single precision), then
     // reflected or refracted there.
     int last = -1;
+    // The next surface along the ray. From a specular surface the search skips 1e-7; where
+    // the surface touches another (a mirror box on the floor, two faces of a glass block
+    // at their edge) that one may lie within the skipped part: look again from just behind.
+    // The same rule for every event of the path and for its end, so a ray traced again
+    // through a path meets the surfaces the path was recorded with.
+    auto next = [&](bool from_surface, RayHit& h) {
+        if (m_caster.intersect(t.o, t.d, from_surface ? 1e-7 : 0.0, 1e30, h)) return true;
+        if (!from_surface) return false;
+        constexpr double kBack = 1e-6;
+        RayHit near;
+        if (!m_caster.intersect(t.o - kBack * t.d, t.d, 0.0, 1e30, near) || near.t > 2.0 * kBack)
+            return false;
+        // Not the surface it leaves: that face, or its twin (glass's inner face) in its plane.
+        if (last >= 0 && (near.face == last || near.face == m_scene.faces[size_t(last)].twin))
+            return false;
+        near.t -= kBack;
+        h = near;
+        return true;
+    };
     for (int e = 0; e < g.count; ++e) {
         RayHit h;
-        if (!m_caster.intersect(t.o, t.d, e == 0 ? 0.0 : 1e-7, 1e30, h)) {
+        if (!next(e > 0, h)) {
             t.cls = -3;
             return t;
         }
@@ -257,21 +268,12 @@ LightBeams::Traced LightBeams::cast(const Source& s, const Segment& g, int side,
         }
         last = h.face;
     }
-    const bool from_surface = g.count > 0;
-    t.cls = classify(m_scene, m_caster, t.o, t.d, from_surface ? 1e-7 : 0.0, t.hit);
-    if (t.cls == -1 && from_surface) {
-        // Reflected where the mirror touches another surface (a mirror box on the floor):
-        // the surface may lie within the skipped 1e-7 of the ray's start; look again from
-        // just behind it.
-        constexpr double kBack = 1e-6;
-        RayHit near;
-        const int c = classify(m_scene, m_caster, t.o - kBack * t.d, t.d, 0.0, near);
-        if (c != -1 && near.t <= 2.0 * kBack && near.face != last) {
-            near.t -= kBack;
-            t.cls = c;
-            t.hit = near;
-        }
+    if (!next(g.count > 0, t.hit)) {
+        t.cls = -1;  // leaves the scene
+        return t;
     }
+    const Face& f = m_scene.faces[size_t(t.hit.face)];
+    t.cls = glm::dot(f.normal, t.d) >= 0.0 ? -2 : f.chart;  // a back face, or a front
     return t;
 }
 
