@@ -1,9 +1,11 @@
 #include "vlf/field/radiance_maps.hpp"
 
+#include <algorithm>
+
 namespace vlf {
 
 RadianceMaps::RadianceMaps(const Scene& scene, const std::vector<bool>& stored, int dirs,
-                           const Coverage& coverage, bool unshot_maps)
+                           const Coverage& coverage, bool unshot_maps, int d0, int d1)
     : directions(dirs), with_unshot(unshot_maps) {
     const size_t nf = scene.faces.size();
     slot.assign(nf, -1);
@@ -20,11 +22,25 @@ RadianceMaps::RadianceMaps(const Scene& scene, const std::vector<bool>& stored, 
             at += coverage(d, faces[k]);
         }
     offset.back() = at;
-    total.assign(at, RgbF(0.0f));
+    hold(d0, d1 < 0 ? dirs : d1);
+}
+
+void RadianceMaps::hold(int d0, int d1) {
+    const uint64_t b = ray_begin(d0), e = ray_begin(d1);
+    auto rehold = [&](std::vector<RgbF>& v) {
+        std::vector<RgbF> held(e - b, RgbF(0.0f));
+        const uint64_t lo = std::max(b, base), hi = std::min(e, base + v.size());
+        for (uint64_t k = lo; k < hi; ++k) held[k - b] = v[k - base];
+        v.swap(held);
+    };
+    rehold(total);
     if (with_unshot) {
-        unshot.assign(at, RgbF(0.0f));
-        unshot_next.assign(at, RgbF(0.0f));
+        rehold(unshot);
+        rehold(unshot_next);
     }
+    first = d0;
+    last = d1;
+    base = b;
 }
 
 int64_t RadianceMaps::bytes() const {

@@ -3,6 +3,10 @@
 // order of P's fragments in tile row-major order and, within each, its edge table.
 // Specular faces need both (their light is directional); with --store-all-rays every face
 // keeps L_T for the pure render-from-rays walkthrough (§6.1).
+//
+// The layout (`offset`) covers every direction; the arrays hold only the rays of the
+// directions [first, last), from ray `base` on (an MPI rank's own directions, issue 13;
+// all of them in one process). begin() is an index into the held arrays.
 #pragma once
 
 #include <cstdint>
@@ -25,18 +29,32 @@ struct RadianceMaps {
     std::vector<RgbF> unshot;       // L_U, read by the current cycle
     std::vector<RgbF> unshot_next;  // L_U being written for the next cycle
     std::vector<RgbF> total;        // L_T
+    int first = 0, last = 0;        // the directions held
+    uint64_t base = 0;              // their first ray (= ray_begin(first))
 
-    // coverage(d, f) = rays face f covers in PSF d (measured for every stored face).
+    // coverage(d, f) = rays face f covers in PSF d (measured for every stored face). Holds
+    // the directions [first, last) (last < 0: to the end).
     RadianceMaps(const Scene& scene, const std::vector<bool>& stored, int directions,
-                 const Coverage& coverage, bool with_unshot);
+                 const Coverage& coverage, bool with_unshot, int first = 0, int last = -1);
     RadianceMaps() = default;
 
+    // Holds the directions [d0, d1) instead: the values of those held before are kept, the
+    // others are zero; the arrays are reallocated to exactly that size.
+    void hold(int d0, int d1);
+    bool holds(int d) const { return d >= first && d < last; }
+    // The first ray of direction d in the whole layout (d = directions: the end).
+    uint64_t ray_begin(int d) const { return offset[size_t(d) * faces.size()]; }
+
     bool stores(int face) const { return face < static_cast<int>(slot.size()) && slot[face] >= 0; }
-    uint64_t begin(int d, int face) const { return offset[size_t(d) * faces.size() + slot[face]]; }
+    // Index of (d, face)'s first ray in the held arrays; d must be held.
+    uint64_t begin(int d, int face) const {
+        return offset[size_t(d) * faces.size() + slot[face]] - base;
+    }
     uint64_t count(int d, int face) const {
         const size_t k = size_t(d) * faces.size() + slot[face];
         return offset[k + 1] - offset[k];
     }
+    // Rays of every direction (held or not).
     uint64_t rays() const { return offset.empty() ? 0 : offset.back(); }
     int64_t bytes() const;
 };

@@ -52,9 +52,8 @@ nlohmann::json rank_report(Ranks& ranks, const Transport& t, const Propagation& 
 Propagation propagate(const Scene& scene, const PropagateParams& params, const RunOptions& opts) {
     const Stopwatch total;
     Propagation run;
-    run.transport = std::make_unique<Transport>(scene, params);
     Ranks& ranks = opts.ranks != nullptr ? *opts.ranks : single_process();
-    run.transport->set_ranks(ranks);
+    run.transport = std::make_unique<Transport>(scene, params, ranks);
     const bool lead = ranks.rank() == 0;  // writes checkpoints, resamples
     bool done = false;
     if (opts.resume != nullptr) {
@@ -80,8 +79,9 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
         run.transport->run_cycle(c == params.cycles);
         if (!opts.checkpoint_dir.empty()) {
             const Stopwatch write;
-            run.transport->gather_radiance_totals();
+            run.transport->gather_radiance_maps(true);
             if (lead) write_checkpoint(opts.checkpoint_dir, scene, *run.transport);
+            run.transport->keep_own_radiance_maps();
             run.seconds_checkpoint += write.seconds();
         }
         const LedgerEntry& e = run.transport->ledger().back();
@@ -90,8 +90,8 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     }
     run.transport->set_progress(nullptr);
     bar.finish();
-    run.transport->gather_radiance_totals();
-    run.transport->fold_unshot_into_total();
+    run.transport->fold_unshot_into_total();     // each rank its own directions
+    run.transport->gather_radiance_maps(false);  // L_T whole on rank 0, for the bake
     // VLF §5: after the last cycle, resample the specular total maps along real
     // reflection paths (backward ray tracing), once (by the rank that writes the bake).
     if (lead && params.resample && scene.specular_face_count() > 0) {

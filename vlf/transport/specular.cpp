@@ -84,22 +84,25 @@ bool sample_source(const SpecularSource& s, int i, int j, RgbF& value) {
 
 }  // namespace
 
-Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
-                    const std::vector<Mat3>& rotations, int N, int m,
-                    const std::vector<SpecularSource>& sources, RadianceMaps& maps) {
-    // Invert: per target direction, (face, source, weight) in source order.
+std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
+                                 const std::vector<Mat3>& rotations, int N, int m,
+                                 const std::vector<SpecularSource>& sources, RadianceMaps& maps) {
+    // Invert: per target direction, (face, source, weight) in source order; only the
+    // directions the maps hold (a rank's own, issue 13: the deposits into the others are
+    // their owners' to make, in this same order).
     std::vector<std::vector<TargetRef>> by_direction(dirs.size());
     for (uint32_t s = 0; s < sources.size(); ++s)
         for (int k = 0; k < sources[s].targets; ++k)
-            by_direction[sources[s].target_direction[k]].push_back(
-                {sources[s].face, s, sources[s].target_weight[k]});
+            if (maps.holds(sources[s].target_direction[k]))
+                by_direction[sources[s].target_direction[k]].push_back(
+                    {sources[s].face, s, sources[s].target_weight[k]});
     for (auto& v : by_direction)
         std::stable_sort(v.begin(), v.end(),
                          [](const TargetRef& a, const TargetRef& b) { return a.face < b.face; });
 
     const double a = ray_area(N);
-    std::vector<Rgb> rounding(dirs.size(), Rgb(0.0));  // per target direction
-    parallel_for(0, dirs.size(), [&](long d) {
+    std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));  // per held direction
+    parallel_for(maps.first, maps.last, [&](long d) {
         const auto& refs = by_direction[d];
         if (refs.empty()) return;
         const Mat3& rot = rotations[d];
@@ -154,13 +157,12 @@ Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
                 const RgbF before = maps.unshot_next[base + k];
                 maps.unshot_next[base + k] += RgbF(acc[k]);
                 // What single precision kept of the deposit, against what was deposited.
-                rounding[d] += (acc[k] - (Rgb(maps.unshot_next[base + k]) - Rgb(before))) * beam;
+                rounding[d - maps.first] +=
+                    (acc[k] - (Rgb(maps.unshot_next[base + k]) - Rgb(before))) * beam;
             }
         }
     });
-    Rgb total(0.0);
-    for (const Rgb& r : rounding) total += r;
-    return total;
+    return rounding;
 }
 
 }  // namespace vlf

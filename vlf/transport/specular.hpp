@@ -59,10 +59,12 @@ int chart_specular_targets(const Scene& scene, const DirectionSet& dirs, const F
 // Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
 // zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).
 // `rotations[d]` is the rotation of PSF d; `ray_area` = (2/N)^2.
-// Returns the power that single-precision storage rounded away (deposited minus stored,
-// either sign), so the ledger can book it.
-Rgb gather_specular(const Scene& scene, const DirectionSet& dirs,
-                    const std::vector<Mat3>& rotations, int resolution, int tile,
-                    const std::vector<SpecularSource>& sources, RadianceMaps& maps);
+// Only the directions `maps` holds are gathered into (maps.first..last: an MPI rank's own;
+// each target is still written in source order, so every rank writes what one process
+// would). Returns, per held direction, the power that single-precision storage rounded away
+// (deposited minus stored, either sign), for the ledger to sum in direction order.
+std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
+                                 const std::vector<Mat3>& rotations, int resolution, int tile,
+                                 const std::vector<SpecularSource>& sources, RadianceMaps& maps);
 
 }  // namespace vlf

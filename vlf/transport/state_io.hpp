@@ -84,6 +84,22 @@ class StateReader {
         v.resize(count);
         bytes(v.data(), count * sizeof(T), tag);
     }
+    // Reads only the values [first, first + v.size()) of a section of `expected` values into
+    // v (an MPI rank's own directions' rays, issue 13) and skips the others.
+    template <class T>
+    void array_part(const char* tag, std::vector<T>& v, uint64_t expected, uint64_t first) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        const uint64_t count = header(tag, sizeof(T));
+        if (count != expected)
+            throw Error(fmt::format("{}: section '{}' holds {} values where this run has {}",
+                                    m_path, tag, count, expected));
+        if (first + v.size() > count)
+            throw Error(
+                fmt::format("{}: section '{}' is shorter than the part asked", m_path, tag));
+        skip(first * sizeof(T), tag);
+        bytes(v.data(), v.size() * sizeof(T), tag);
+        skip((count - first - v.size()) * sizeof(T), tag);
+    }
     template <class T>
     void value(const char* tag, T& v) {
         static_assert(std::is_trivially_copyable_v<T>);
@@ -111,6 +127,10 @@ class StateReader {
             throw Error(fmt::format("{}: section '{}' has {}-byte values where this build has {}",
                                     m_path, tag, w, width));
         return count;
+    }
+    void skip(uint64_t n, const char* tag) {
+        m_in.seekg(static_cast<std::streamoff>(n), std::ios::cur);
+        if (!m_in) throw Error(fmt::format("{}: truncated in section '{}'", m_path, tag));
     }
     void bytes(void* p, uint64_t n, const char* tag) {
         m_in.read(static_cast<char*>(p), static_cast<std::streamsize>(n));

@@ -229,8 +229,17 @@ void Transport::run_pass(int pass, double share) {
     m_timings.passes += pass_time.seconds();
     // Then the reflected light of the pass into the mirrors' unshot maps (specular.hpp).
     const Stopwatch specular;
-    if (!sources.empty())
-        m_running.lost.rounding += gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
+    if (!sources.empty()) {
+        // Each rank deposits into its own directions; the rounding is summed in direction
+        // order across the ranks (DESIGN §5 Parallelism).
+        const std::vector<Rgb> rounding =
+            gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
+        Rgb sum(0.0);
+        sum_in_rank_order(sum, [&](Rgb& s) {
+            for (const Rgb& r : rounding) s += r;
+        });
+        m_running.lost.rounding += sum;
+    }
     m_timings.specular += specular.seconds();
     if (!directions.norms_known) finish_normalisers(directions);
 }
@@ -323,14 +332,18 @@ void Transport::swap_maps(Rgb& unshot, Rgb& deferred) {
         }
     }
     std::swap(m_spec.unshot, m_spec.unshot_next);
+    // The mirrors' rays, each rank its own directions, in direction order across the
+    // ranks (DESIGN §5 Parallelism).
     const double area = ray_area(m_params.field.resolution);
-    for (int d = 0; d < m_dirs.size(); ++d) {
-        const double beam = area * m_dirs.solid_angle(d);
-        for (int f : m_spec.faces) {
-            const uint64_t b = m_spec.begin(d, f), n = m_spec.count(d, f);
-            for (uint64_t k = b; k < b + n; ++k) unshot += Rgb(m_spec.unshot[k]) * beam;
+    sum_in_rank_order(unshot, [&](Rgb& sum) {
+        for (int d = m_spec.first; d < m_spec.last; ++d) {
+            const double beam = area * m_dirs.solid_angle(d);
+            for (int f : m_spec.faces) {
+                const uint64_t b = m_spec.begin(d, f), n = m_spec.count(d, f);
+                for (uint64_t k = b; k < b + n; ++k) sum += Rgb(m_spec.unshot[k]) * beam;
+            }
         }
-    }
+    });
 }
 
 }  // namespace vlf

@@ -87,7 +87,10 @@ struct TransportTimings {
 
 class Transport {
   public:
-    Transport(const Scene& scene, const PropagateParams& params);
+    // `ranks`: the processes sharing this propagation (ranks.hpp; default: this one alone);
+    // every rank must run the same calls in the same order. Each rank allocates the
+    // radiance maps of its own directions only (RadianceMaps::first, last).
+    Transport(const Scene& scene, const PropagateParams& params, Ranks& ranks = single_process());
     ~Transport();
     Transport(const Transport&) = delete;
     Transport& operator=(const Transport&) = delete;
@@ -99,17 +102,17 @@ class Transport {
     void fold_unshot_into_total();
     // Advanced by one for every direction of every pass processed (may be null).
     void set_progress(class Progress* progress) { m_progress = progress; }
-    // The processes sharing this propagation (ranks.hpp; default: this one alone). Set
-    // before the first cycle; every rank must run the same calls in the same order.
-    void set_ranks(Ranks& ranks) { m_ranks = &ranks; }
     const Ranks& ranks() const { return *m_ranks; }
     // The directions this rank owns (all of them for one process).
     int first_direction(int rank) const;
-    // With several ranks: every rank's L_T of its own directions to rank 0
-    // (transport_ranks.cpp), which then holds the whole radiance maps (the others keep only
-    // their own directions' L_T current); before a checkpoint and after the last cycle.
-    // Nothing to do for one process.
-    void gather_radiance_totals();
+    // With several ranks (transport_ranks.cpp; nothing to do for one process): every rank's
+    // part of the radiance maps to rank 0, which then holds them whole for every direction.
+    // `whole_state`: L_U, L_U next and L_T, before a checkpoint (keep_own_radiance_maps()
+    // after writing it); otherwise, after the last cycle, only L_T (L_U is dropped on every
+    // rank first; fold_unshot_into_total() must have run).
+    void gather_radiance_maps(bool whole_state);
+    // Rank 0 goes back to holding its own directions only (after a checkpoint is written).
+    void keep_own_radiance_maps();
     // Directions processed by `cycles` cycles (every pass of each): the unit of progress.
     int64_t work(int cycles) const;
     int cycles_done() const { return static_cast<int>(m_ledger.size()); }
@@ -179,6 +182,10 @@ class Transport {
                     std::vector<SpecularSource>& sources);
     // After a pass's first run on several ranks: every direction's recorded charts.
     void share_charts(Pass& pass);
+    // A sum over the directions in direction order across the ranks (DESIGN §5): rank r
+    // receives `sum` from rank r - 1 (whatever it held), add_own(sum) adds this rank's
+    // directions, in order, and the last rank's result goes to every rank.
+    void sum_in_rank_order(Rgb& sum, const std::function<void(Rgb&)>& add_own);
     // End of a cycle (VLF §4.1): P^T += P^N, P^C <- P^N (deferred faces: +=), L_U <- L_U
     // next; adds the power left unshot and the power deferred.
     void swap_maps(Rgb& unshot, Rgb& deferred);
@@ -192,8 +199,8 @@ class Transport {
     Coverage m_coverage;         // stored faces and emitters, on the N x N grid
     std::vector<Pass> m_passes;  // the true directions, then each perturbation
     TextureMaps m_tex;
-    RadianceMaps m_spec;                   // L_U, L_T of specular faces
-    RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays)
+    RadianceMaps m_spec;                   // L_U, L_T of specular faces, own directions
+    RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays), own
     std::vector<uint8_t> m_deferred;       // per chart, this cycle
     std::vector<int> m_small_emitters;     // charts that shoot by ray casting
     std::vector<Rgb> m_light_next;         // cycle 1: the lights' share of P^N (shoot_lights)

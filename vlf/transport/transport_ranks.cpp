@@ -8,10 +8,13 @@
 // chunks in order, and passes them on; the last rank broadcasts the result. Floating-point
 // addition is not associative, so this is the one order that reproduces the single
 // process's ((P^N + chunk 0) + chunk 1) + ... exactly. The specular sources are gathered
-// in rank order, which is chunk order, and every rank gathers them into the mirrors' maps
-// identically (gather_specular), so L_U stays the same on every rank; L_T of a direction
-// is written only by the rank owning it and sent to rank 0 when it is needed
-// (gather_radiance_totals).
+// in rank order, which is chunk order; every rank holds the radiance maps (L_U, L_T) of its
+// own directions only and gathers into them, in source order, just the deposits that land
+// there (gather_specular), so each map is written as the single process writes it. Sums
+// over the maps (the unshot power, the rounding) run along the same chain in direction
+// order (sum_in_rank_order). Rank 0 collects the maps whole only to write a checkpoint
+// (then keeps its own part again) and, L_T alone, after the last cycle to write the bake
+// (gather_radiance_maps).
 #include <fmt/format.h>
 
 #include <cstring>
@@ -196,28 +199,55 @@ void Transport::share_charts(Pass& pass) {
     }
 }
 
-void Transport::gather_radiance_totals() {
+void Transport::sum_in_rank_order(Rgb& sum, const std::function<void(Rgb&)>& add_own) {
+    const int K = m_ranks->size();
+    if (K == 1) {
+        add_own(sum);
+        return;
+    }
+    const int r = m_ranks->rank();
+    if (r > 0) m_ranks->receive(&sum, sizeof(sum), r - 1);
+    add_own(sum);
+    if (r < K - 1) m_ranks->send(&sum, sizeof(sum), r + 1);
+    m_ranks->broadcast(&sum, sizeof(sum), K - 1);
+}
+
+void Transport::gather_radiance_maps(bool whole_state) {
     const int K = m_ranks->size();
     if (K == 1) return;
-    const int r = m_ranks->rank();
+    const int r = m_ranks->rank(), l = m_dirs.size();
     for (RadianceMaps* maps : {&m_spec, &m_other}) {
+        if (!whole_state && maps->with_unshot) {
+            // L_U is folded into L_T by now: not needed any more, and not sent.
+            std::vector<RgbF>().swap(maps->unshot);
+            std::vector<RgbF>().swap(maps->unshot_next);
+            maps->with_unshot = false;
+        }
+        if (r == 0) maps->hold(0, l);
         if (maps->faces.empty()) continue;
-        const size_t S = maps->faces.size();
-        // Directions are contiguous in the maps: a rank's part is one range of rays.
-        auto range = [&](int q) {
-            return std::pair<uint64_t, uint64_t>{maps->offset[size_t(first_direction(q)) * S],
-                                                 maps->offset[size_t(first_direction(q + 1)) * S]};
-        };
+        std::vector<std::vector<RgbF>*> arrays{&maps->total};
+        if (maps->with_unshot) {
+            arrays.push_back(&maps->unshot);
+            arrays.push_back(&maps->unshot_next);
+        }
         if (r == 0) {
             for (int q = 1; q < K; ++q) {
-                const auto [qb, qe] = range(q);
-                m_ranks->receive(maps->total.data() + qb, (qe - qb) * sizeof(RgbF), q);
+                const uint64_t b = maps->ray_begin(first_direction(q));
+                const uint64_t e = maps->ray_begin(first_direction(q + 1));
+                for (std::vector<RgbF>* a : arrays)
+                    m_ranks->receive(a->data() + b, (e - b) * sizeof(RgbF), q);
             }
         } else {
-            const auto [b, e] = range(r);
-            m_ranks->send(maps->total.data() + b, (e - b) * sizeof(RgbF), 0);
+            for (std::vector<RgbF>* a : arrays)
+                m_ranks->send(a->data(), a->size() * sizeof(RgbF), 0);
         }
     }
+}
+
+void Transport::keep_own_radiance_maps() {
+    if (m_ranks->size() == 1 || m_ranks->rank() != 0) return;
+    for (RadianceMaps* maps : {&m_spec, &m_other})
+        maps->hold(first_direction(0), first_direction(1));
 }
 
 }  // namespace vlf

@@ -124,9 +124,10 @@ Transport::Pass Transport::make_pass(int p) const {
     return pass;
 }
 
-Transport::Transport(const Scene& scene, const PropagateParams& params)
+Transport::Transport(const Scene& scene, const PropagateParams& params, Ranks& ranks)
     : m_scene(scene), m_params(params), m_dirs(params.field.directions, params.field.scheme) {
     validate(params);
+    m_ranks = &ranks;
     const Stopwatch setup;
     const int l = m_dirs.size();
     m_rot.resize(l);
@@ -150,8 +151,10 @@ Transport::Transport(const Scene& scene, const PropagateParams& params)
         spec[f] = scene.material_of(scene.faces[f]).is_specular();
         other[f] = params.store_all_rays && !spec[f];
     }
-    m_spec = RadianceMaps(scene, spec, l, m_coverage, true);
-    m_other = RadianceMaps(scene, other, l, m_coverage, false);
+    // Only this rank's directions' rays are allocated (issue 13: memory per rank ~ 1 / K).
+    const int r = m_ranks->rank(), d0 = first_direction(r), d1 = first_direction(r + 1);
+    m_spec = RadianceMaps(scene, spec, l, m_coverage, true, d0, d1);
+    m_other = RadianceMaps(scene, other, l, m_coverage, false, d0, d1);
     m_mean_reflectance = mean_reflectance(scene);
     m_deferred.assign(scene.charts.size(), 0);
     m_small_emitters = small_emitter_charts(scene, params.field.resolution * params.supersample);

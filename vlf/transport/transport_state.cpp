@@ -47,6 +47,10 @@ void load_charts(StateReader& in, std::vector<std::vector<ChartCosine>>& charts,
 }  // namespace
 
 void Transport::save_state(StateWriter& out) const {
+    // The maps of every direction: with several ranks, rank 0 after gather_radiance_maps.
+    for (const RadianceMaps* maps : {&m_spec, &m_other})
+        if (maps->first != 0 || maps->last != m_dirs.size())
+            throw Error("checkpoint: the radiance maps are not held whole (gather them first)");
     out.array("tex.current", m_tex.current);
     out.array("tex.next", m_tex.next);
     out.array("tex.total", m_tex.total);
@@ -74,10 +78,15 @@ void Transport::load_state(StateReader& in) {
     in.array("tex.current", m_tex.current, n(m_tex.current));
     in.array("tex.next", m_tex.next, n(m_tex.next));
     in.array("tex.total", m_tex.total, n(m_tex.total));
-    in.array("spec.unshot", m_spec.unshot, n(m_spec.unshot));
-    in.array("spec.unshot_nx", m_spec.unshot_next, n(m_spec.unshot_next));
-    in.array("spec.total", m_spec.total, n(m_spec.total));
-    in.array("other.total", m_other.total, n(m_other.total));
+    // The file holds every direction's rays; this rank reads its own (RadianceMaps::first,
+    // last), so the state resumes on any number of ranks.
+    const auto part = [&](const char* tag, std::vector<RgbF>& v, const RadianceMaps& maps) {
+        in.array_part(tag, v, maps.rays(), maps.base);
+    };
+    part("spec.unshot", m_spec.unshot, m_spec);
+    part("spec.unshot_nx", m_spec.unshot_next, m_spec);
+    part("spec.total", m_spec.total, m_spec);
+    part("other.total", m_other.total, m_other);
     in.array("deferred", m_deferred, n(m_deferred));
     in.array("light_next", m_light_next);
     if (!m_light_next.empty() && m_light_next.size() != m_tex.texels())
