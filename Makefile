@@ -7,7 +7,10 @@ JOBS        ?= $(shell nproc)
 SCENE       ?= scenes/cornell-mirrors.json
 DEMO_ARGS   ?= --quality preview
 OUT         ?= out
-ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli|Texture|LightTransport|GlassTransport|RenderGlass
+ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli|Texture|LightTransport|GlassTransport|RenderGlass|Checkpoint
+# The ledger over every shipped scene matches 'Scene' but reads no input the others do not: it
+# is a physics test (Release), and took 8 of the ASan run's minutes.
+ASAN_EXCLUDE ?= NumericalLossUnderAThousandthOnEveryScene
 
 .PHONY: demo test deps build build-asan test-asan bench clean format format-check
 
@@ -36,7 +39,7 @@ demo: build
 # the command-line contract) again under ASan+UBSan.
 test: format-check build build-asan
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
-	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -R '$(ASAN_TESTS)'
+	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -R '$(ASAN_TESTS)' -E '$(ASAN_EXCLUDE)'
 
 build-asan: deps
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVLF_SANITIZE=ON -DVLF_BUILD_BENCH=OFF -DVLF_BUILD_INTERACTIVE=OFF
