@@ -21,6 +21,18 @@ namespace {
 // MPI counts are int: large buffers go in pieces of at most 1 GiB.
 constexpr uint64_t kPiece = uint64_t(1) << 30;
 
+// f(offset, count) over `bytes` cut into pieces of at most kPiece (MPI counts are int); at
+// least one piece, so an empty message still pairs a send with its receive.
+template <class F>
+void in_pieces(uint64_t bytes, F f) {
+    uint64_t at = 0;
+    do {
+        const int n = int(std::min(kPiece, bytes - at));
+        f(at, n);
+        at += uint64_t(n);
+    } while (at < bytes);
+}
+
 // The line a rank prints when the job ends it (SIGTERM from mpirun after another rank
 // died, or a batch system's time limit): prepared outside the handler, written inside it.
 char g_stop_line[256] = {};
@@ -95,38 +107,30 @@ void MpiRanks::check(int rc, const char* what, int peer) const {
 
 void MpiRanks::send(const void* data, uint64_t bytes, int peer) {
     const char* p = static_cast<const char*>(data);
-    uint64_t at = 0;
-    do {
-        const int n = int(std::min(kPiece, bytes - at));
+    in_pieces(bytes, [&](uint64_t at, int n) {
         MPI_Request request;
         check(MPI_Isend(p + at, n, MPI_BYTE, peer, 0, MPI_COMM_WORLD, &request), "sending", peer);
         check(wait_idle(request), "sending", peer);
-        at += uint64_t(n);
-    } while (at < bytes);
+    });
     m_sent += bytes;
 }
 
 void MpiRanks::receive(void* data, uint64_t bytes, int peer) {
     char* p = static_cast<char*>(data);
-    uint64_t at = 0;
-    do {
-        const int n = int(std::min(kPiece, bytes - at));
+    in_pieces(bytes, [&](uint64_t at, int n) {
         MPI_Request request;
         check(MPI_Irecv(p + at, n, MPI_BYTE, peer, 0, MPI_COMM_WORLD, &request), "receiving", peer);
         check(wait_idle(request), "receiving", peer);
-        at += uint64_t(n);
-    } while (at < bytes);
+    });
 }
 
 void MpiRanks::broadcast(void* data, uint64_t bytes, int root) {
     char* p = static_cast<char*>(data);
-    for (uint64_t at = 0; at < bytes; at += kPiece) {
+    in_pieces(bytes, [&](uint64_t at, int n) {
         MPI_Request request;
-        check(MPI_Ibcast(p + at, int(std::min(kPiece, bytes - at)), MPI_BYTE, root, MPI_COMM_WORLD,
-                         &request),
-              "broadcast", root);
+        check(MPI_Ibcast(p + at, n, MPI_BYTE, root, MPI_COMM_WORLD, &request), "broadcast", root);
         check(wait_idle(request), "broadcast", root);
-    }
+    });
     if (m_rank == root) m_sent += bytes * uint64_t(m_size - 1);
 }
 

@@ -362,18 +362,16 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         // the rim's other side (rim_share there): the quarters still on the path share the
         // beam's power.
         if (g.count > 0) {
+            bool off[4];
             double kept = 0.0;
             for (int k = 0; k < 4; ++k) {
-                bool off = true;
-                for (int c = 0; c < 4; ++c) off = off && corners[k][c].cls == -3;
-                if (!off) kept += w[k];
+                off[k] = std::all_of(corners[k], corners[k] + 4,
+                                     [](const Traced& c) { return c.cls == -3; });
+                if (!off[k]) kept += w[k];
             }
             if (kept > 0.0)
-                for (int k = 0; k < 4; ++k) {
-                    bool off = true;
-                    for (int c = 0; c < 4; ++c) off = off && corners[k][c].cls == -3;
-                    if (off) w[k] = 0.0;
-                }
+                for (int k = 0; k < 4; ++k)
+                    if (off[k]) w[k] = 0.0;
         }
         const double sum = w[0] + w[1] + w[2] + w[3];
         for (int k = 0; k < 4; ++k)
