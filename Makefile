@@ -41,8 +41,10 @@ test: format-check build build-asan
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) -R '$(ASAN_TESTS)' -E '$(ASAN_EXCLUDE)'
 
+# -O1 -g1: ASan's reports keep file and line, and the build takes half the time of -O2 -g
+# (the sanitized build was 14 of make test's 24 minutes).
 build-asan: deps
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVLF_SANITIZE=ON -DVLF_BUILD_BENCH=OFF -DVLF_BUILD_INTERACTIVE=OFF
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO='-O1 -g1 -DNDEBUG' -DVLF_SANITIZE=ON -DVLF_BUILD_BENCH=OFF -DVLF_BUILD_INTERACTIVE=OFF
 	cmake --build $(ASAN_BUILD) -j $(JOBS) --target vlf_tests propagate walkthrough
 
 test-asan: build-asan
