@@ -9,6 +9,7 @@
 #include "vlf/core/fresnel.hpp"
 #include "vlf/scene/glass.hpp"
 #include "vlf/scene/sealed_areas.hpp"
+#include "vlf/scene/specular_turn.hpp"
 #include "vlf/transport/transport_internal.hpp"
 
 namespace vlf::transport_detail {
@@ -138,12 +139,106 @@ void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3&
     }
 }
 
+// A smooth face (Face::vertex_normals) turns each of its rays about the shading normal at
+// the ray's point (specular_turn.hpp), so a tessellated sphere reflects and refracts in the
+// field as a sphere does, not facet by facet (docs/propagation.md §13). Each ray's power
+// goes to the directions enclosing its own turned direction; one source per (target face,
+// direction) holds the window weighted by the part of each pixel's power that goes there
+// (and by its Fresnel R or 1 - R at glass), so the gather lays out each direction's light
+// where the surface sends it. The parts sum to what the face turns: exact energy.
+void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
+                    const Received& r, const Material& mat, const Vec3& incoming,
+                    const std::vector<Rgb>& in, ChunkResult& res) {
+    const Scene& scene = pc.scene;
+    const Face& face = scene.faces[f];
+    const SpecularSource window = source_window(pc, pd, f, frags, r, in);
+    struct Part {
+        int face, direction;
+        std::vector<float> weight;  // per window pixel
+        Rgb power{0.0};
+    };
+    std::vector<Part> parts;
+    auto part = [&](int onto, int d) -> Part& {
+        for (Part& p : parts)
+            if (p.face == onto && p.direction == d) return p;
+        parts.push_back({onto, d, std::vector<float>(window.radiance.size(), 0.0f), Rgb(0.0)});
+        return parts.back();
+    };
+    struct Resolved {
+        int onto, d, face;
+    };
+    std::vector<Resolved> resolved;  // specular_target_face, once per (face, direction)
+    auto target_face = [&](int onto, int d, int sense) {
+        for (const Resolved& x : resolved)
+            if (x.onto == onto && x.d == d) return x.face;
+        const int g = specular_target_face(scene, scene.faces[size_t(onto)], d,
+                                           pc.dirs.direction(d) * double(sense), pc.coverage);
+        resolved.push_back({onto, d, g});
+        return g;
+    };
+    // Power p of the pixel at `at` leaves face `onto`'s front along `out`, its part `frac`
+    // of what the pixel received.
+    auto branch = [&](int onto, const Vec3& out, const Rgb& p, double frac, size_t at) {
+        const EnclosingTriangle tri = pc.dirs.enclosing(out);
+        std::array<int, 3> to{-1, -1, -1};
+        double sum = 0.0;
+        for (int i = 0; i < 3; ++i)
+            if (tri.weight[i] > 0.0) {
+                to[size_t(i)] = target_face(onto, tri.index[i], tri.sense[i]);
+                if (to[size_t(i)] >= 0) sum += tri.weight[i];
+            }
+        if (sum <= 0.0) {
+            res.lost.grazing_mirror += p;  // no PSF can carry it
+            return;
+        }
+        for (int i = 0; i < 3; ++i) {
+            if (to[size_t(i)] < 0) continue;
+            const double w = tri.weight[i] / sum;
+            Part& q = part(to[size_t(i)], tri.index[i]);
+            q.weight[at] += float(frac * w);
+            q.power += p * w;
+        }
+    };
+    const Mat3& rot = pc.rotations[pd.d];
+    const Mat3 rt = glm::transpose(rot);
+    const Vec3 nr = rot * face.normal;
+    for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+            const Rgb p = in[base + uint32_t(k)];
+            if (p.x <= 0 && p.y <= 0 && p.z <= 0) return;
+            const int i = tile.s * pc.m + u, j = tile.t * pc.m + v;
+            const double x = (2.0 * i + 1.0) / pc.N - 1.0, y = (2.0 * j + 1.0) / pc.N - 1.0;
+            const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
+            const SpecularTurn t = specular_turn(scene, face, rt * Vec3(x, y, z), incoming);
+            const size_t at = size_t(j - window.j0) * window.width + size_t(i - window.i0);
+            if (!mat.dielectric) {
+                branch(int(f), t.reflected, p * mat.specular, 1.0, at);
+                return;
+            }
+            if (t.refracts) branch(face.twin, t.refracted, p * (1.0 - t.R), 1.0 - t.R, at);
+            branch(int(f), t.reflected, p * t.R, t.R, at);
+        });
+    });
+    for (Part& q : parts) {
+        if (!(q.power.x > 0 || q.power.y > 0 || q.power.z > 0)) continue;
+        SpecularSource one = window;
+        one.face = q.face;
+        one.targets = 1;
+        one.target_direction[0] = q.direction;
+        one.target_weight[0] = 1.0;
+        for (size_t k = 0; k < one.radiance.size(); ++k) one.radiance[k] *= q.weight[k];
+        one.power = q.power;
+        res.sources.push_back(std::move(one));
+    }
+}
+
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
 // radiance over the window of its rays, gathered later into the unshot maps of the
 // directions enclosing the mirrored one (specular.hpp). At glass (docs/propagation.md §13)
 // the Fresnel reflectance R of the direction's angle of incidence is reflected so, and
 // 1 - R is refracted: gathered into the twin's maps (the other side of the interface)
-// around the refracted direction; past the critical angle all of it is reflected.
+// around the refracted direction; past the critical angle all of it is reflected. A smooth
+// face turns ray by ray (reflect_smooth).
 void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
                       const Received& r, const Material& mat, const std::vector<Rgb>& in,
                       ChunkResult& res) {
@@ -151,6 +246,10 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     const Mat3& rot = pc.rotations[pd.d];
     const int facing = (rot * face.normal).z > 0 ? 1 : -1;
     const Vec3 incoming = pd.g.psf.omega * double(-facing);  // light travels towards the face
+    if (!face.vertex_normals.empty()) {
+        reflect_smooth(pc, pd, f, frags, r, mat, incoming, in, res);
+        return;
+    }
     const Vec3 mirrored = reflect(incoming, face.normal);
     const SpecularSource src = source_window(pc, pd, f, frags, r, in);
     if (!mat.dielectric) {

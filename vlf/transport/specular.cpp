@@ -11,33 +11,35 @@
 
 namespace vlf {
 
+int specular_target_face(const Scene& scene, const Face& f, int d, const Vec3& omega,
+                         const Coverage& coverage) {
+    auto usable = [&](const Face& g) {
+        return glm::dot(g.normal, omega) > 1e-12 && coverage(d, g.id) > 0;
+    };
+    if (usable(f)) return f.id;
+    const Vec3 centre = polygon_centroid(f.vertices);
+    int face = -1;
+    double best = std::numeric_limits<double>::infinity();
+    for (int g : scene.chart_of(f).faces) {  // the nearest face of the chart with rays there
+        const Face& other = scene.faces[size_t(g)];
+        if (!usable(other)) continue;
+        const double dist = glm::length(polygon_centroid(other.vertices) - centre);
+        if (dist < best) best = dist, face = g;
+    }
+    return face;
+}
+
 int chart_specular_targets(const Scene& scene, const DirectionSet& dirs, const Face& f,
                            const Vec3& outgoing, const Coverage& coverage,
                            std::array<SpecularTarget, 3>& out) {
     const EnclosingTriangle tri = dirs.enclosing(glm::normalize(outgoing));
-    const Chart& chart = scene.chart_of(f);
-    const Vec3 centre = polygon_centroid(f.vertices);
     int k = 0;
     double sum = 0.0;
     for (int i = 0; i < 3; ++i) {
         const int d = tri.index[i];
         if (tri.weight[i] <= 0.0) continue;
-        const Vec3 omega = dirs.direction(d) * double(tri.sense[i]);
-        auto usable = [&](const Face& g) {
-            return glm::dot(g.normal, omega) > 1e-12 && coverage(d, g.id) > 0;
-        };
-        int face = -1;
-        if (usable(f)) {
-            face = f.id;
-        } else {  // the nearest face of the chart with rays there
-            double best = std::numeric_limits<double>::infinity();
-            for (int g : chart.faces) {
-                const Face& other = scene.faces[size_t(g)];
-                if (!usable(other)) continue;
-                const double dist = glm::length(polygon_centroid(other.vertices) - centre);
-                if (dist < best) best = dist, face = g;
-            }
-        }
+        const int face =
+            specular_target_face(scene, f, d, dirs.direction(d) * double(tri.sense[i]), coverage);
         if (face < 0) continue;
         bool merged = false;  // the same line can appear twice near the equator
         for (int j = 0; j < k; ++j)
