@@ -69,6 +69,7 @@ vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
     q.cache_budget_mib = p.cache_budget_mib;
     q.seed = p.seed;
     q.chunks = p.chunks;
+    q.light_dim = p.light_dim;
     return q;
 }
 
@@ -253,6 +254,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--supersample", o.params.supersample,
                    "Super-sampled exchange at polygon boundaries, s x s (VLF §5)")
+        ->capture_default_str();
+    app.add_option("--light-dim", o.params.light_dim,
+                   "Point, spot and sun beams dimmer than this fraction of their light's mean "
+                   "irradiance land coarse (0 = all split to half a texel)")
         ->capture_default_str();
     app.add_flag("--no-resample", o.no_resample,
                  "Skip backward ray-traced resampling of specular maps (VLF §5)");

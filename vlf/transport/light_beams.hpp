@@ -59,8 +59,10 @@ class LightBeams {
   public:
     // `polygons`: every face's rim in its chart's texels within `reach` (normalised units),
     // as the transport keeps them (texel_clip.hpp faces_in_texels).
+    // `dim`: beams dimmer than this fraction of their light's mean irradiance land coarse
+    // (kDimFootprintTexels in light_beams.cpp; PropagateParams::light_dim).
     LightBeams(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-               const std::vector<FaceInTexels>& polygons, double reach);
+               const std::vector<FaceInTexels>& polygons, double reach, double dim);
 
     // The root beams over all the scene's lights, in a fixed order.
     int64_t roots() const { return m_first.empty() ? 0 : m_first.back(); }
@@ -91,6 +93,8 @@ class LightBeams {
             e2{0.0};          // parallel: the root grid's plane, point = base + u e1 + v e2
         Rgb unit_power{0.0};  // point, spot: intensity x scale^2; parallel: E / subfields
         int resolution = 1;   // root beams per side (of each cube face)
+        // A beam dimmer than this (power per normalised area) lands coarse.
+        double dim_irradiance = 0.0;
     };
     // The specular surfaces a beam has met, in order: each of its rays is traced from the
     // light through them (it must meet each one's front, else it is cut), reflected or

@@ -49,6 +49,9 @@ void validate(const PropagateParams& p) {
     if (p.supersample < 1 || p.supersample > 8)
         throw ParameterError(
             fmt::format("--supersample: {} is out of range (1 to 8)", p.supersample));
+    if (!(p.light_dim >= 0.0) || p.light_dim > 0.1)
+        throw ParameterError(
+            fmt::format("--light-dim: {} is out of range (0 to 0.1)", p.light_dim));
     if (p.chunks < 1 || p.chunks > 4096)
         throw ParameterError(fmt::format("--chunks: {} is out of range (1 to 4096)", p.chunks));
     if (p.cache_budget_mib < 0 || p.cache_budget_mib > (int64_t(1) << 24))
@@ -79,6 +82,7 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["seed"] = p.seed;
     j["cache_budget_mib"] = p.cache_budget_mib;
     j["chunks"] = p.chunks;
+    j["light_dim"] = p.light_dim;
     return j;
 }
 
@@ -88,7 +92,7 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
                  "chart_angle_deg",  "cycles",        "stop_unshot",    "threads",
                  "deferred",         "perturbations", "perturb_cycles", "filter_sigma",
                  "supersample",      "resample",      "store_all_rays", "seed",
-                 "cache_budget_mib", "chunks"});
+                 "cache_budget_mib", "chunks",        "light_dim"});
     PropagateParams p;
     p.field.directions = r.required("directions").integer();
     p.field.resolution = r.required("resolution").integer();
@@ -116,6 +120,9 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
     p.cache_budget_mib = r.required("cache_budget_mib").integer64();
     // Bakes before issue 13 were all made with 16 chunks.
     if (const auto chunks = r.optional("chunks")) p.chunks = chunks->integer();
+    // Bakes before dim beams split every light beam to half a texel.
+    p.light_dim = 0.0;
+    if (const auto dim = r.optional("light_dim")) p.light_dim = dim->number();
     try {
         validate(p);
     } catch (const ParameterError& e) {

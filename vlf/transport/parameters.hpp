@@ -45,6 +45,9 @@ struct PropagateParams {
     // number of threads or MPI ranks; an MPI job has at most this many ranks (issue 13,
     // docs/cluster.md).
     int chunks = 16;
+    // Delta lights' beams dimmer than this fraction of their light's mean irradiance land
+    // coarse (light_beams.hpp "Dim beams"); 0: every beam is split to half a texel.
+    double light_dim = 1e-3;
 };
 
 // Throws ParameterError naming the option ("--tile: ...") for any out-of-range value.

@@ -121,7 +121,7 @@ void Transport::shoot_small_emitters(const RayCaster& caster) {
 void Transport::shoot_lights(const RayCaster& caster) {
     if (m_scene.lights.empty()) return;
     const Stopwatch shot;
-    const LightBeams beams(m_scene, caster, m_tex, m_polygons, m_rim_reach);
+    const LightBeams beams(m_scene, caster, m_tex, m_polygons, m_rim_reach, m_params.light_dim);
     const int64_t K = beams.roots();
     const int64_t chunks = m_params.chunks;
     // The lights' deposits are exact at rims and shadow edges: they join P^N after the
