@@ -16,8 +16,7 @@ bisects them, so they are parallel and the quad is an isosceles trapezoid. The s
 on the coordinates as written (12 significant digits): every quad's corners lie within 1e-9 R
 of its plane, its normal points outward (the same side as its corners' normals), and every
 directed edge is matched by exactly one reversed edge (closed, turned outward, as a dielectric
-object must be). Python 3 standard library only;
-the output is the same on every run.
+object must be). Python 3 standard library only; the output is the same on every run.
 Usage: bench/make_torus.py [-R 1] [-r 0.4] [-U 40] [-V 16] [-o scenes/meshes/torus.obj]
 """
 import argparse
