@@ -2,8 +2,9 @@
 # MPI ranks (issue 13, docs/cluster.md), run by ctest when propagate is built with VLF_MPI:
 #   identical  mpirun -np 2 and -np 3 (3 does not divide l) and -np 4 give a bake whose
 #              files are byte-identical to the single process's, on a scene with mirrors,
-#              perturbation and the filter, and on one with point and spot lights; so do
-#              4 ranks with --chunks 5; more ranks than chunks are refused;
+#              perturbation and the filter, on one with point and spot lights and (2
+#              ranks) on one with smooth glass; so do 4 ranks with --chunks 5; more ranks
+#              than chunks are refused;
 #   killed     one rank of a 2-rank job is killed after the first checkpoint: the job
 #              ends (no hang) with a message naming the rank, and the resumed job gives
 #              the single process's bake.
@@ -55,6 +56,11 @@ identical)
   "$propagate" "${lights[@]}" -o lights1.vlf > /dev/null
   "${mpirun[@]}" -np 3 "$propagate" "${lights[@]}" -o lights3.vlf > /dev/null
   same_bake lights3.vlf lights1.vlf
+  # Smooth glass: the specular sources with per-pixel weights (reflect_smooth) cross ranks.
+  glass=("$src/tests/scenes/glass-room.json" -l 129 -N 32 -m 8 -c 3 -q)
+  "$propagate" "${glass[@]}" -o glass1.vlf > /dev/null
+  "${mpirun[@]}" -np 2 "$propagate" "${glass[@]}" -o glass2.vlf > /dev/null
+  same_bake glass2.vlf glass1.vlf
   ;;
 killed)
   args=("$src/tests/scenes/closed-mirror-room.json" -l 513 -N 64 -m 8 -c 4 -q)

@@ -142,10 +142,11 @@ void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3&
 // A smooth face (Face::vertex_normals) turns each of its rays about the shading normal at
 // the ray's point (specular_turn.hpp), so a tessellated sphere reflects and refracts in the
 // field as a sphere does, not facet by facet (docs/propagation.md §13). Each ray's power
-// goes to the directions enclosing its own turned direction; one source per (target face,
-// direction) holds the window weighted by the part of each pixel's power that goes there
-// (and by its Fresnel R or 1 - R at glass), so the gather lays out each direction's light
-// where the surface sends it. The parts sum to what the face turns: exact energy.
+// goes to the directions enclosing its own turned direction. Each (target face, direction)
+// gets a weight per window pixel, the part of that pixel's power that goes there (with its
+// Fresnel R or 1 - R at glass), so the gather lays out each direction's light where the
+// surface sends it; the directions of one target face share a source (the window once, up
+// to three directions each). The parts sum to what the face turns: exact energy.
 void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
                     const Received& r, const Material& mat, const Vec3& incoming,
                     const std::vector<Rgb>& in, ChunkResult& res) {
@@ -219,15 +220,32 @@ void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, Fr
             branch(int(f), t.reflected, p * t.R, t.R, at);
         });
     });
-    for (Part& q : parts) {
-        if (!(q.power.x > 0 || q.power.y > 0 || q.power.z > 0)) continue;
+    // One source per target face and up to three of its directions: the window once, the
+    // parts' pixel weights beside it.
+    std::vector<char> done(parts.size(), 0);
+    for (size_t a = 0; a < parts.size(); ++a) {
+        if (done[a]) continue;
         SpecularSource one = window;
-        one.face = q.face;
-        one.targets = 1;
-        one.target_direction[0] = q.direction;
-        one.target_weight[0] = 1.0;
-        for (size_t k = 0; k < one.radiance.size(); ++k) one.radiance[k] *= q.weight[k];
-        one.power = q.power;
+        one.face = parts[a].face;
+        one.targets = 0;
+        one.power = Rgb(0.0);
+        for (size_t b = a; b < parts.size() && one.targets < 3; ++b) {
+            const Part& q = parts[b];
+            if (done[b] || q.face != one.face) continue;
+            done[b] = 1;
+            if (!(q.power.x > 0 || q.power.y > 0 || q.power.z > 0)) continue;
+            const size_t k = size_t(one.targets++);
+            one.target_direction[k] = q.direction;
+            one.target_power[k] = q.power;
+            one.pixel_weight.insert(one.pixel_weight.end(), q.weight.begin(), q.weight.end());
+            one.power += q.power;
+        }
+        if (one.targets == 0) continue;
+        const double sum = one.power.x + one.power.y + one.power.z;
+        for (int k = 0; k < one.targets; ++k) {  // shares of the power (for the report only)
+            const Rgb& p = one.target_power[size_t(k)];
+            one.target_weight[size_t(k)] = sum > 0.0 ? (p.x + p.y + p.z) / sum : 0.0;
+        }
         res.sources.push_back(std::move(one));
     }
 }

@@ -59,16 +59,22 @@ namespace {
 struct TargetRef {
     int face;
     uint32_t source;
+    int target;  // its index among the source's targets
     double weight;
 };
 
-// Incoming radiance of the source at pixel (i, j): the covered pixel itself, else the mean
-// of covered 8-neighbours (the beam hit the face there but the centre fell just outside).
-bool sample_source(const SpecularSource& s, int i, int j, RgbF& value) {
+// Incoming radiance of the source at pixel (i, j), for its target k (a smooth face's
+// pixel weights): the covered pixel itself, else the mean of covered 8-neighbours (the
+// beam hit the face there but the centre fell just outside).
+bool sample_source(const SpecularSource& s, int k, int i, int j, RgbF& value) {
     const int x = i - s.i0, y = j - s.j0;
+    const size_t plane = size_t(s.width) * s.height * size_t(k);
     auto at = [&](int a, int b) { return size_t(b) * s.width + a; };
+    auto radiance = [&](size_t p) {
+        return s.pixel_weight.empty() ? s.radiance[p] : s.radiance[p] * s.pixel_weight[plane + p];
+    };
     if (x >= 0 && y >= 0 && x < s.width && y < s.height && s.covered[at(x, y)]) {
-        value = s.radiance[at(x, y)];
+        value = radiance(at(x, y));
         return true;
     }
     RgbF sum(0.0f);
@@ -76,7 +82,7 @@ bool sample_source(const SpecularSource& s, int i, int j, RgbF& value) {
     for (int b = y - 1; b <= y + 1; ++b)
         for (int a = x - 1; a <= x + 1; ++a)
             if (a >= 0 && b >= 0 && a < s.width && b < s.height && s.covered[at(a, b)]) {
-                sum += s.radiance[at(a, b)];
+                sum += radiance(at(a, b));
                 ++n;
             }
     if (n == 0) return false;
@@ -97,7 +103,7 @@ std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
         for (int k = 0; k < sources[s].targets; ++k)
             if (maps.holds(sources[s].target_direction[k]))
                 by_direction[sources[s].target_direction[k]].push_back(
-                    {sources[s].face, s, sources[s].target_weight[k]});
+                    {sources[s].face, s, k, sources[s].target_weight[k]});
     for (auto& v : by_direction)
         std::stable_sort(v.begin(), v.end(),
                          [](const TargetRef& a, const TargetRef& b) { return a.face < b.face; });
@@ -140,10 +146,12 @@ std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
                     const int i = static_cast<int>(std::floor((q.x + 1.0) * 0.5 * src.resolution));
                     const int j = static_cast<int>(std::floor((q.y + 1.0) * 0.5 * src.resolution));
                     RgbF value;
-                    g[k] = sample_source(src, i, j, value) ? Rgb(value) : Rgb(0.0);
+                    g[k] = sample_source(src, refs[r].target, i, j, value) ? Rgb(value) : Rgb(0.0);
                     total += g[k];
                 }
-                const Rgb deposit = refs[r].weight * src.power;  // power into this direction
+                const Rgb deposit = src.pixel_weight.empty()  // power into this direction
+                                        ? refs[r].weight * src.power
+                                        : src.target_power[size_t(refs[r].target)];
                 for (int c = 0; c < 3; ++c) {
                     if (deposit[c] <= 0.0) continue;
                     if (total[c] > 0.0) {

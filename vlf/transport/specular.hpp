@@ -38,6 +38,12 @@ struct SpecularSource {
     int targets = 0;
     std::array<int, 3> target_direction{};
     std::array<double, 3> target_weight{};
+    // A smooth face's source (receive_step.cpp reflect_smooth), else empty: per target, the
+    // part of each window pixel's light that goes there (target-major, width x height
+    // each), and the power it carries (the gather lays target k out by radiance x its
+    // weights and deposits target_power[k]; target_weight is then unused).
+    std::vector<float> pixel_weight;
+    std::array<Rgb, 3> target_power{};
 };
 
 // The enclosing PSF directions of `outgoing` (a travel direction leaving face `f`'s front:

@@ -82,6 +82,8 @@ void pack(Packer& p, const SpecularSource& s) {
     p.put(s.targets);
     p.put(s.target_direction);
     p.put(s.target_weight);
+    p.put_array(s.pixel_weight);
+    p.put(s.target_power);
 }
 
 void unpack(Unpacker& u, SpecularSource& s) {
@@ -98,6 +100,8 @@ void unpack(Unpacker& u, SpecularSource& s) {
     u.get(s.targets);
     u.get(s.target_direction);
     u.get(s.target_weight);
+    u.get_array(s.pixel_weight);
+    u.get(s.target_power);
 }
 
 }  // namespace
