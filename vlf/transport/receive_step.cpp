@@ -126,15 +126,11 @@ void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3&
         SpecularSource one = src;
         one.face = targets[size_t(j)].face;
         one.targets = 0;
-        double share = 0.0;
         for (int i = j; i < n; ++i)
             if (targets[size_t(i)].face == one.face) {
                 one.target_direction[size_t(one.targets)] = targets[size_t(i)].direction;
-                one.target_weight[size_t(one.targets++)] = targets[size_t(i)].weight;
-                share += targets[size_t(i)].weight;
+                one.target_power[size_t(one.targets++)] = power * targets[size_t(i)].weight;
             }
-        for (int i = 0; i < one.targets; ++i) one.target_weight[size_t(i)] /= share;
-        one.power = power * share;
         res.sources.push_back(std::move(one));
     }
 }
@@ -228,7 +224,6 @@ void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, Fr
         SpecularSource one = window;
         one.face = parts[a].face;
         one.targets = 0;
-        one.power = Rgb(0.0);
         for (size_t b = a; b < parts.size() && one.targets < 3; ++b) {
             const Part& q = parts[b];
             if (done[b] || q.face != one.face) continue;
@@ -238,15 +233,8 @@ void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, Fr
             one.target_direction[k] = q.direction;
             one.target_power[k] = q.power;
             one.pixel_weight.insert(one.pixel_weight.end(), q.weight.begin(), q.weight.end());
-            one.power += q.power;
         }
-        if (one.targets == 0) continue;
-        const double sum = one.power.x + one.power.y + one.power.z;
-        for (int k = 0; k < one.targets; ++k) {  // shares of the power (for the report only)
-            const Rgb& p = one.target_power[size_t(k)];
-            one.target_weight[size_t(k)] = sum > 0.0 ? (p.x + p.y + p.z) / sum : 0.0;
-        }
-        res.sources.push_back(std::move(one));
+        if (one.targets > 0) res.sources.push_back(std::move(one));
     }
 }
 

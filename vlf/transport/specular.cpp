@@ -60,7 +60,6 @@ struct TargetRef {
     int face;
     uint32_t source;
     int target;  // its index among the source's targets
-    double weight;
 };
 
 // Incoming radiance of the source at pixel (i, j), for its target k (a smooth face's
@@ -102,8 +101,7 @@ std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
     for (uint32_t s = 0; s < sources.size(); ++s)
         for (int k = 0; k < sources[s].targets; ++k)
             if (maps.holds(sources[s].target_direction[k]))
-                by_direction[sources[s].target_direction[k]].push_back(
-                    {sources[s].face, s, k, sources[s].target_weight[k]});
+                by_direction[sources[s].target_direction[k]].push_back({sources[s].face, s, k});
     for (auto& v : by_direction)
         std::stable_sort(v.begin(), v.end(),
                          [](const TargetRef& a, const TargetRef& b) { return a.face < b.face; });
@@ -149,9 +147,7 @@ std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
                     g[k] = sample_source(src, refs[r].target, i, j, value) ? Rgb(value) : Rgb(0.0);
                     total += g[k];
                 }
-                const Rgb deposit = src.pixel_weight.empty()  // power into this direction
-                                        ? refs[r].weight * src.power
-                                        : src.target_power[size_t(refs[r].target)];
+                const Rgb deposit = src.target_power[size_t(refs[r].target)];
                 for (int c = 0; c < 3; ++c) {
                     if (deposit[c] <= 0.0) continue;
                     if (total[c] > 0.0) {

@@ -34,16 +34,15 @@ struct SpecularSource {
     int width = 0, height = 0;
     std::vector<RgbF> radiance;    // incoming radiance per window pixel
     std::vector<uint8_t> covered;  // 1 where the face covers the pixel
-    Rgb power{0.0};                // reflected power rho_s * received, normalised units
     int targets = 0;
     std::array<int, 3> target_direction{};
-    std::array<double, 3> target_weight{};
+    // The power deposited into each target direction (of rho_s * received, or Fresnel's
+    // share at glass), normalised units.
+    std::array<Rgb, 3> target_power{};
     // A smooth face's source (receive_step.cpp reflect_smooth), else empty: per target, the
     // part of each window pixel's light that goes there (target-major, width x height
-    // each), and the power it carries (the gather lays target k out by radiance x its
-    // weights and deposits target_power[k]; target_weight is then unused).
+    // each); the gather lays target k out by radiance x its weights.
     std::vector<float> pixel_weight;
-    std::array<Rgb, 3> target_power{};
 };
 
 // The enclosing PSF directions of `outgoing` (a travel direction leaving face `f`'s front:

@@ -78,12 +78,10 @@ void pack(Packer& p, const SpecularSource& s) {
     p.put(s.height);
     p.put_array(s.radiance);
     p.put_array(s.covered);
-    p.put(s.power);
     p.put(s.targets);
     p.put(s.target_direction);
-    p.put(s.target_weight);
-    p.put_array(s.pixel_weight);
     p.put(s.target_power);
+    p.put_array(s.pixel_weight);
 }
 
 void unpack(Unpacker& u, SpecularSource& s) {
@@ -96,12 +94,10 @@ void unpack(Unpacker& u, SpecularSource& s) {
     u.get(s.height);
     u.get_array(s.radiance);
     u.get_array(s.covered);
-    u.get(s.power);
     u.get(s.targets);
     u.get(s.target_direction);
-    u.get(s.target_weight);
-    u.get_array(s.pixel_weight);
     u.get(s.target_power);
+    u.get_array(s.pixel_weight);
 }
 
 }  // namespace
