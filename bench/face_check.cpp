@@ -51,6 +51,22 @@ int main(int argc, char** argv) try {
         q(0), q(0.01), q(0.1), q(0.5), q(0.9), q(0.99), q(1));
     std::printf("darker than half: %zu (%zu beyond 3 standard errors)\n", dark_raw.size(),
                 dark.size());
+    // The other side: faces brighter than twice the reference beyond 3 standard errors.
+    std::vector<vlf::FaceProbe> bright;
+    for (const vlf::FaceProbe& p : probes)
+        if (p.value > 2.0 * (p.reference + 3.0 * p.std_error)) bright.push_back(p);
+    std::sort(bright.begin(), bright.end(), [](const auto& a, const auto& b) {
+        return a.value - a.reference > b.value - b.reference;
+    });
+    std::printf("brighter than twice: %zu beyond 3 standard errors\n", bright.size());
+    for (size_t i = 0; i < std::min<size_t>(bright.size(), 5); ++i) {
+        const vlf::Face& f = renderer.bake().scene.faces[size_t(bright[i].face)];
+        vlf::Vec3 c(0.0);
+        for (const vlf::Vec3& v : f.vertices) c += v;
+        c = renderer.bake().scene.normalisation.to_user(c / double(f.vertices.size()));
+        std::printf("  face %d: %.4g vs %.4g +- %.2g at (%.1f %.1f %.1f)\n", bright[i].face,
+                    bright[i].value, bright[i].reference, bright[i].std_error, c.x, c.y, c.z);
+    }
     std::vector<vlf::FaceProbe> worst = dark;
     std::sort(worst.begin(), worst.end(), [](const auto& a, const auto& b) {
         return a.value / std::max(a.reference, 1e-300) < b.value / std::max(b.reference, 1e-300);
@@ -65,6 +81,13 @@ int main(int argc, char** argv) try {
             worst[i].face, worst[i].value, worst[i].reference, worst[i].std_error, f.normal.x,
             f.normal.y, f.normal.z, c.id, c.faces.size(), c.texels.width, c.texels.height,
             c.normal.x, c.normal.y, c.normal.z);
+        const vlf::VertexLight& vl = renderer.bake().vertex_light;
+        if (!vl.has(f.id)) continue;
+        std::printf("    area %.3g texel^2, gathered E/pi at its vertices:",
+                    f.area / (c.texels.size * c.texels.size));
+        for (size_t v = 0; v < f.vertices.size(); ++v)
+            std::printf(" %.4g", double(vl.incident[size_t(vl.first[size_t(f.id)]) + v].y));
+        std::printf("\n");
     }
     return 0;
 } catch (const std::exception& e) {

@@ -10,7 +10,8 @@
 # Each run: /usr/bin/time -v build/propagate/propagate SCENE -l 513 -N 64 -m 8 -c 4 -q -o OUT
 # --report R.json --no-surfaces (other propagate options, given after the flags, replace these four).
 # Columns: setup = scene load + texel frames + light-field set-up; propagation = the cycles
-# (passes, specular, filter, bookkeeping, resampling); write = writing the bake; wall =
+# (passes, specular, filter, bookkeeping, resampling); gather = the final gather
+# (final_gather.hpp); write = writing the bake; wall =
 # /usr/bin/time's elapsed time of the whole process; RSS = its peak resident set.
 # With -r R every size runs R times and each column is the median.
 # Usage: bench/scale.sh [-b BUILD] [-L MAXLEVEL (default 5 = 1M)] [-f] [-r REPEAT] [-k KEEPDIR]
@@ -45,8 +46,8 @@ echo "# bench/scale.sh ($series series, median of $repeat): propagate ${args[*]}
 echo "binary $build/propagate/propagate of $(date -r "$build/propagate/propagate" '+%F %T'),"\
   "scripts $(git describe --always --dirty 2> /dev/null || echo unknown); $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
-echo "| triangles | scene faces | setup s | propagation s | write s | wall s | peak RSS MiB | bake MB |"
-echo "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+echo "| triangles | scene faces | setup s | propagation s | gather s | write s | wall s | peak RSS MiB | bake MB |"
+echo "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
 for level in $(seq 0 "$max"); do
   name=$series-$level
   if [ $series = model ]; then
@@ -72,7 +73,7 @@ for level in $(seq 0 "$max"); do
     fi
   done
   if [ -n "$failed" ]; then
-    echo "| $tris | $failed | | | | | | |"
+    echo "| $tris | $failed | | | | | | | |"
     rm -rf "$work/$name.vlf" "$work/meshes/$name.obj"
     continue
   fi
@@ -89,11 +90,11 @@ for i in range(1, n + 1):
     hms = re.search(r"Elapsed \(wall clock\) time.*: ([\d:.]+)", tv).group(1).split(":")
     wall = sum(float(x) * 60 ** k for k, x in enumerate(reversed(hms)))
     prop = sum(t[k] for k in ("passes", "specular", "filter", "bookkeeping", "resample"))
-    rows.append((t["setup"], prop, t["write"], wall, rss_kb / 1024))
+    rows.append((t["setup"], prop, t.get("gather", 0.0), t["write"], wall, rss_kb / 1024))
     faces = r["scene"]["faces"]
 med = [statistics.median(col) for col in zip(*rows)]
 print(f"| {tris:,} | {faces:,} | {med[0]:.2f} | {med[1]:.2f} | {med[2]:.2f} | {med[3]:.2f} | "
-      f"{med[4]:.0f} | {bake / 1e6:.1f} |")
+      f"{med[4]:.2f} | {med[5]:.0f} | {bake / 1e6:.1f} |")
 PY
   if [ -n "$keep" ]; then
     mkdir -p "$keep"

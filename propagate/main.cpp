@@ -17,6 +17,7 @@
 #include "vlf/core/progress.hpp"
 #include "vlf/core/stopwatch.hpp"
 #include "vlf/field/field_stats.hpp"
+#include "vlf/render/final_gather.hpp"
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/checkpoint.hpp"
 #include "vlf/transport/parameters.hpp"
@@ -70,6 +71,8 @@ vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
     q.seed = p.seed;
     q.chunks = p.chunks;
     q.light_dim = p.light_dim;
+    if (given("--gather")) q.gather = p.gather;
+    q.gather_below = p.gather_below;
     return q;
 }
 
@@ -156,10 +159,18 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     const vlf::Stopwatch write_time;
     nlohmann::json report = vlf::propagation_report(scene, p, run, 0.0, false);
     // The light field goes from the radiance maps to the file one direction at a time.
-    const vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report, false);
+    vlf::Bake bake = vlf::make_bake(scene, p, *run.transport, report, false);
+    // The final gather reads the finished field (final_gather.hpp); it is not propagation.
+    const vlf::Stopwatch gather_time;
+    const vlf::GatherStats gathered = vlf::final_gather(bake);
+    const double gather_s = gather_time.seconds();
+    bake.manifest["timings_s"]["gather"] = gather_s;
     vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));
-    const double write_s = write_time.seconds();
-    vlf::set_write_time(report["timings_s"], run, write_s);
+    const double write_s = write_time.seconds() - gather_s;
+    vlf::set_write_time(report["timings_s"], run, write_s + gather_s);
+    report["timings_s"]["write"] = write_s;
+    report["timings_s"]["gather"] = gather_s;
+    report["gather"] = vlf::to_json(gathered);
     // peak_rss of the propagation_report is before the bake was assembled and written.
     report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];
     report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write
@@ -170,6 +181,10 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
             report["surfaces"] = vlf::surface_report(scene, run.transport->texture_maps());
         vlf::write_text_atomically(o.report, report.dump(2) + "\n");
     }
+    if (gathered.faces > 0 && !o.quiet)
+        std::printf("gathered   %lld faces at %lld vertices, %d rays each, in %.2f s\n",
+                    static_cast<long long>(gathered.faces), static_cast<long long>(gathered.points),
+                    p.gather, gather_s);
     std::printf("propagated in %.2f s (write %.2f s); bake written to %s\n", run.seconds_total,
                 write_s, o.output.c_str());
     if (!o.quiet)
@@ -258,6 +273,13 @@ int main(int argc, char** argv) {
     app.add_option("--light-dim", o.params.light_dim,
                    "Point, spot and sun beams dimmer than this fraction of their light's mean "
                    "irradiance land coarse (0 = all split to half a texel)")
+        ->capture_default_str();
+    app.add_option("--gather", o.params.gather,
+                   "Final gather: rays and light samples per vertex of the faces of charts "
+                   "smaller than --gather-below texels (0 = off: every face reads its chart)")
+        ->capture_default_str();
+    app.add_option("--gather-below", o.params.gather_below,
+                   "Charts smaller than this many texels of area are gathered per vertex")
         ->capture_default_str();
     app.add_flag("--no-resample", o.no_resample,
                  "Skip backward ray-traced resampling of specular maps (VLF §5)");

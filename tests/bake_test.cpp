@@ -280,7 +280,7 @@ TEST_F(BakeBundle, RoundTrip) {
     EXPECT_EQ(b.manifest["format"], "vlf-bake");
     EXPECT_EQ(b.manifest["version"], kBakeVersion);
     EXPECT_EQ(b.manifest["units"], "m");
-    EXPECT_EQ(b.manifest["files"].size(), 5u);
+    EXPECT_EQ(b.manifest["files"].size(), 6u);
     ASSERT_EQ(b.directions.size(), 33);
     for (int d = 0; d < 33; ++d)
         expect_same_vec(b.directions.direction(d), a.directions.direction(d));

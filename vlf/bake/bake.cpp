@@ -14,6 +14,7 @@
 #include "vlf/bake/lightmaps_exr.hpp"
 #include "vlf/bake/scene_json.hpp"
 #include "vlf/bake/textures_bin.hpp"
+#include "vlf/bake/vertex_light_bin.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/core/files.hpp"
 #include "vlf/core/json_reader.hpp"
@@ -81,6 +82,8 @@ void write_parts(const fs::path& dir, const Bake& bake, const RaySource& rays, s
     write_geometry((dir / kGeometryFile).string(), bake.scene);
     step = kTexturesFile;
     write_textures((dir / kTexturesFile).string(), bake.scene);
+    step = kVertexLightFile;
+    write_vertex_light((dir / kVertexLightFile).string(), bake.scene, bake.vertex_light);
 
     step = kLightmapsFile;
     const Atlas atlas = pack_atlas(bake.scene);
@@ -175,6 +178,9 @@ void read_parts(const fs::path& dir, const BundleErrors& errors, Bake& bake, std
     bake.texel_offset.assign(nc + 1, 0);
     for (size_t c = 0; c < nc; ++c)
         bake.texel_offset[c + 1] = bake.texel_offset[c] + bake.scene.charts[c].texel_area.size();
+
+    step = kVertexLightFile;
+    bake.vertex_light = read_vertex_light(errors.file(kVertexLightFile), bake.scene);
 
     step = kManifestFile;
     bake.params = manifest_parameters(bake.manifest, errors);

@@ -19,6 +19,7 @@
 
 #include "vlf/bake/manifest.hpp"
 #include "vlf/bake/ray_images.hpp"
+#include "vlf/bake/vertex_light.hpp"
 #include "vlf/field/direction_set.hpp"
 #include "vlf/scene/scene.hpp"
 #include "vlf/transport/parameters.hpp"
@@ -37,9 +38,13 @@ struct Bake {
         lightmap_radiance;             // per texel of every chart (TextureMaps order), P^T radiance
     std::vector<size_t> texel_offset;  // charts + 1
     RayImages rays;
+    // The final gather's light at the vertices of faces too small for the field
+    // (render/final_gather.hpp); empty when none was gathered.
+    VertexLight vertex_light;
 };
 
-// In-memory bake from a finished propagation (no files); with_rays = false leaves
+// In-memory bake from a finished propagation (no files), without the final gather
+// (render/final_gather.hpp final_gather(bake) adds it); with_rays = false leaves
 // bake.rays empty (write it with ray_source(scene, params, transport)).
 Bake make_bake(const Scene& scene, const PropagateParams& params, const Transport& transport,
                const nlohmann::json& report, bool with_rays = true);

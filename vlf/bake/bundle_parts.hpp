@@ -16,6 +16,7 @@ inline constexpr const char* kManifestFile = "manifest.json";
 inline constexpr const char* kSceneFile = "scene.json";
 inline constexpr const char* kGeometryFile = "geometry.bin";
 inline constexpr const char* kTexturesFile = "textures.bin";
+inline constexpr const char* kVertexLightFile = "vertexlight.bin";
 inline constexpr const char* kLightmapsFile = "lightmaps.exr";
 inline constexpr const char* kLightfieldFile = "lightfield.exr";
 

@@ -54,8 +54,8 @@ void record_layout(json& manifest, const Atlas& atlas, const FieldParams& field,
 
 void record_checksums(json& manifest, const std::string& dir) {
     json files = json::object();
-    for (const char* name :
-         {kSceneFile, kGeometryFile, kTexturesFile, kLightmapsFile, kLightfieldFile}) {
+    for (const char* name : {kSceneFile, kGeometryFile, kTexturesFile, kVertexLightFile,
+                             kLightmapsFile, kLightfieldFile}) {
         uint64_t bytes = 0;
         const std::string sha = sha256_file((fs::path(dir) / name).string(), bytes);
         files[name] = {{"bytes", bytes}, {"sha256", sha}};
@@ -129,9 +129,10 @@ bool is_sha256_hex(const std::string& s) {
 
 void verify_files(const json& manifest, const std::string& dir, const BundleErrors& errors) {
     const JsonReader files = reader(manifest, errors).required("files");
-    files.only_keys({kSceneFile, kGeometryFile, kTexturesFile, kLightmapsFile, kLightfieldFile});
-    for (const char* name :
-         {kSceneFile, kGeometryFile, kTexturesFile, kLightmapsFile, kLightfieldFile})
+    files.only_keys({kSceneFile, kGeometryFile, kTexturesFile, kVertexLightFile, kLightmapsFile,
+                     kLightfieldFile});
+    for (const char* name : {kSceneFile, kGeometryFile, kTexturesFile, kVertexLightFile,
+                             kLightmapsFile, kLightfieldFile})
         files.required(name);
     for (const auto& [name, entry] : files.members()) {  // in the manifest's (sorted) order
         entry.only_keys({"bytes", "sha256"});

@@ -19,7 +19,7 @@ namespace vlf {
 
 inline constexpr const char* kBakeFormat = "vlf-bake";
 // 2: ledger with loss causes, presets (issue 9); 3: perturb_cycles in the parameters
-inline constexpr int kBakeVersion = 6;
+inline constexpr int kBakeVersion = 7;
 
 // --- writing ---
 

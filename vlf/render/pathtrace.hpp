@@ -128,6 +128,13 @@ class PathTracer {
     // call, drawn from rng.
     Rgb delta_irradiance(const Vec3& x, const Vec3& n, Pcg32& rng) const;
 
+    // One light sample of the emitting polygons' irradiance at x (normal n), W per square
+    // scene unit: Le cos_x cos_y / r^2 over the area pdf, shadowed (next-event estimation
+    // without MIS; the final gather's direct light).
+    Rgb light_sample(const Vec3& x, const Vec3& n, Pcg32& rng) const {
+        return direct(x, n, 0.0, rng);
+    }
+
     int emitter_triangles() const { return static_cast<int>(m_lights.size()); }
     double emitter_area() const { return m_light_area; }
     int mirror_faces() const { return static_cast<int>(m_mirrors.size()); }

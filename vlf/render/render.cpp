@@ -90,6 +90,9 @@ struct Renderer::Impl {
     // (irradiance x texel albedo) times the albedo at x over the texels' albedo, looked up
     // the same way (issue 12).
     Rgb lightmap(const Face& f, const Vec3& x) const {
+        if (bake.vertex_light.has(f.id))  // final_gather.hpp: light gathered at its vertices
+            return scene.material_of(f).emission +
+                   scene.albedo_at(f, x) * bake.vertex_light.at(f, x);
         const Chart& c = scene.chart_of(f);
         const Rgb L =
             sample_lightmap(c, bake.lightmap_radiance.data() + bake.texel_offset[f.chart], x);
@@ -326,6 +329,26 @@ std::vector<Rgb> Renderer::shade(const std::vector<PrimaryRay>& rays,
         }
     });
     return out;
+}
+
+Rgb Renderer::gather_radiance(const Vec3& origin, const Vec3& dir, int max_depth,
+                              bool* back) const {
+    const Impl& r = *m_impl;
+    RayHit hit;
+    if (!r.caster.intersect(origin, dir, 0.0, kInf, hit)) return Rgb(0.0);
+    const Face& f = m_bake.scene.faces[hit.face];
+    if (glm::dot(dir, f.normal) >= 0.0) {
+        if (back && f.twin < 0) *back = true;
+        return Rgb(0.0);
+    }
+    Rgb L = r.raytrace(origin, dir, max_depth);
+    const Material& m = m_bake.scene.material_of(f);
+    if (m.is_emitter()) L = glm::max(L - m.emission, Rgb(0.0));  // the light samples' part
+    return L;
+}
+
+const PathTracer& Renderer::path_tracer() const {
+    return m_impl->tracer;
 }
 
 PixelMask Renderer::emitter_mask(const Camera& camera, int width, int height, int k) const {

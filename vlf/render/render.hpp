@@ -53,6 +53,8 @@ struct RenderSettings {
     double light_paths_per_sample = 1.0;
 };
 
+class PathTracer;
+
 class Renderer {
   public:
     explicit Renderer(const Bake& bake);  // the bake must outlive the renderer
@@ -84,6 +86,15 @@ class Renderer {
                            const RenderSettings& settings) const;
 
     const Bake& bake() const { return m_bake; }
+
+    // For the final gather (final_gather.hpp): the radiance arriving at `origin` from
+    // direction `dir` as raytrace mode sees it, less the emission of a lamp met first (the
+    // light samples count that); a lamp seen through a mirror or glass counts in full.
+    // `back`, when given, is set when the ray meets the back of a one-sided face first.
+    Rgb gather_radiance(const Vec3& origin, const Vec3& dir, int max_depth,
+                        bool* back = nullptr) const;
+    // The path tracer over the same scene and caster (its light samples and delta lights).
+    const PathTracer& path_tracer() const;
 
   private:
     struct Impl;

@@ -27,12 +27,6 @@ Rgb Scene::albedo_at(const Face& f, const Vec3& x, double footprint) const {
     return glm::min(out, Rgb(1.0) - m.specular);
 }
 
-namespace {
-
-// Interpolation weights of x over the vertices of a convex planar polygon with unit normal n
-// (they sum to 1, and reproduce x): barycentric for a triangle, Floater's mean value
-// coordinates otherwise (smooth inside, linear along the edges, the triangle's barycentrics
-// for three vertices). x at a vertex or on an edge takes that vertex or edge's linear mix.
 void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
                      std::vector<double>& w) {
     const size_t m = v.size();
@@ -76,8 +70,6 @@ void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
     for (size_t i = 0; i < m; ++i) sum += w[i] = (t[(i + m - 1) % m] + t[i]) / r[i];
     for (double& wi : w) wi /= sum;
 }
-
-}  // namespace
 
 Vec3 Scene::shading_normal(const Face& f, const Vec3& x) const {
     if (f.inner && f.twin >= 0) return -shading_normal(faces[size_t(f.twin)], x);

@@ -186,4 +186,11 @@ struct Scene {
     int specular_face_count() const;  // faces whose material has rho_s > 0
 };
 
+// Interpolation weights of x over the vertices of a convex planar polygon with unit normal n
+// (they sum to 1, and reproduce x): barycentric for a triangle, Floater's mean value
+// coordinates otherwise (smooth inside, linear along the edges, the triangle's barycentrics
+// for three vertices). x at a vertex or on an edge takes that vertex or edge's linear mix.
+void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
+                     std::vector<double>& w);
+
 }  // namespace vlf

@@ -113,6 +113,9 @@ nlohmann::json bake_parameters(const PropagateParams& params) {
     nlohmann::json j = to_json(params);
     j.erase("threads");
     j.erase("cache_budget_mib");
+    // The final gather follows the last cycle: a checkpoint holds none of it.
+    j.erase("gather");
+    j.erase("gather_below");
     return j;
 }
 

@@ -52,6 +52,11 @@ void validate(const PropagateParams& p) {
     if (!(p.light_dim >= 0.0) || p.light_dim > 0.1)
         throw ParameterError(
             fmt::format("--light-dim: {} is out of range (0 to 0.1)", p.light_dim));
+    if (p.gather < 0 || p.gather > 65536)
+        throw ParameterError(fmt::format("--gather: {} is out of range (0 to 65536)", p.gather));
+    if (!(p.gather_below >= 0.0) || p.gather_below > 1e6)
+        throw ParameterError(
+            fmt::format("--gather-below: {} is out of range (0 to 1e6 texels)", p.gather_below));
     if (p.chunks < 1 || p.chunks > 4096)
         throw ParameterError(fmt::format("--chunks: {} is out of range (1 to 4096)", p.chunks));
     if (p.cache_budget_mib < 0 || p.cache_budget_mib > (int64_t(1) << 24))
@@ -83,6 +88,8 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["cache_budget_mib"] = p.cache_budget_mib;
     j["chunks"] = p.chunks;
     j["light_dim"] = p.light_dim;
+    j["gather"] = p.gather;
+    j["gather_below"] = p.gather_below;
     return j;
 }
 
@@ -92,7 +99,8 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
                  "chart_angle_deg",  "cycles",        "stop_unshot",    "threads",
                  "deferred",         "perturbations", "perturb_cycles", "filter_sigma",
                  "supersample",      "resample",      "store_all_rays", "seed",
-                 "cache_budget_mib", "chunks",        "light_dim"});
+                 "cache_budget_mib", "chunks",        "light_dim",      "gather",
+                 "gather_below"});
     PropagateParams p;
     p.field.directions = r.required("directions").integer();
     p.field.resolution = r.required("resolution").integer();
@@ -123,6 +131,8 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
     // Bakes before dim beams split every light beam to half a texel.
     p.light_dim = 0.0;
     if (const auto dim = r.optional("light_dim")) p.light_dim = dim->number();
+    p.gather = r.required("gather").integer();
+    p.gather_below = r.required("gather_below").number();
     try {
         validate(p);
     } catch (const ParameterError& e) {

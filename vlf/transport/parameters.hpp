@@ -48,6 +48,12 @@ struct PropagateParams {
     // Delta lights' beams dimmer than this fraction of their light's mean irradiance land
     // coarse (light_beams.hpp "Dim beams"); 0: every beam is split to half a texel.
     double light_dim = 1e-3;
+    // The final gather (render/final_gather.hpp): the faces of charts smaller than
+    // `gather_below` texels take their light from `gather` rays and as many light samples
+    // per vertex, gathered from the finished field; gather = 0 leaves every face on its
+    // chart's texels.
+    int gather = 64;
+    double gather_below = 16.0;
 };
 
 // Throws ParameterError naming the option ("--tile: ...") for any out-of-range value.

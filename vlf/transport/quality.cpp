@@ -34,6 +34,7 @@ namespace {
 struct Preset {
     int directions, resolution, tile, texel_divisions, cycles;
     double stop_unshot, filter_sigma;
+    int gather;  // final gather rays per vertex (final_gather.hpp)
 };
 
 // Measured on the empty Cornell box against the path tracer (docs/quality.md,
@@ -41,10 +42,10 @@ struct Preset {
 // lamp seen along discrete directions (blotches), which more directions and the filter
 // reduce, and the texel size at the corners.
 constexpr Preset kPresets[] = {
-    {129, 32, 8, 16, 32, 1e-2, 1.0},      // draft: a second, where the light goes
-    {2049, 64, 8, 32, 64, 2e-3, 1.0},     // preview: seconds, within 5 % away from emitters
-    {2049, 128, 16, 64, 128, 5e-4, 1.5},  // final: within a minute, within 2 %
-    {8193, 128, 16, 64, 256, 1e-4, 1.5},  // reference: minutes, for comparisons
+    {129, 32, 8, 16, 32, 1e-2, 1.0, 16},        // draft: a second, where the light goes
+    {2049, 64, 8, 32, 64, 2e-3, 1.0, 64},       // preview: seconds, within 5 % away from emitters
+    {2049, 128, 16, 64, 128, 5e-4, 1.5, 256},   // final: within a minute, within 2 %
+    {8193, 128, 16, 64, 256, 1e-4, 1.5, 1024},  // reference: minutes, for comparisons
 };
 
 }  // namespace
@@ -58,6 +59,7 @@ PropagateParams quality_params(Quality q) {
     p.cycles = k.cycles;
     p.stop_unshot = k.stop_unshot;
     p.filter_sigma = k.filter_sigma;
+    p.gather = k.gather;
     return p;
 }
 
