@@ -70,6 +70,7 @@ std::vector<int> find_neighbours(const std::vector<Face>& faces, const std::vect
         while (hi < edges.size() && edges[hi].key == edges[lo].key) ++hi;
         for (size_t i = lo; i < hi; ++i) {
             const Face& f = faces[edges[i].face];
+            if (edges[i].edge < 64 && (f.cut_edges >> edges[i].edge & 1u)) continue;
             const Vec3& fa = f.vertices[edges[i].edge];
             int found = -1, count = 0;
             for (size_t j = lo; j < hi; ++j) {

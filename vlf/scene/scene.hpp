@@ -87,6 +87,10 @@ struct Face {
     // so a beam footprint is not clipped there (texel_clip.hpp). Edges from 64 on are
     // always treated as the chart's rim.
     uint64_t inner_edges = 0;
+    // Bit e set: edge e lies on a contact line where the face was cut at load
+    // (imprint.hpp); charts never grow across it. Used only while charts are built (not in
+    // the bake).
+    uint64_t cut_edges = 0;
     // Texture coordinates per vertex (a textured material's triangles), else empty.
     std::vector<Vec2> uv;
     // Smooth shading (docs/scenes.md "smooth"): a unit shading normal per vertex, each on

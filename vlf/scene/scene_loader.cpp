@@ -77,6 +77,7 @@
 #include "vlf/core/json_reader.hpp"
 #include "vlf/scene/charts.hpp"
 #include "vlf/scene/closed_surface.hpp"
+#include "vlf/scene/imprint.hpp"
 #include "vlf/scene/mesh_import.hpp"
 #include "vlf/scene/primitives.hpp"
 #include "vlf/scene/scene_import.hpp"
@@ -1086,6 +1087,15 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
         scene.texel_size_user = half_diagonal / options.texel_divisions;
     const double texel = scene.texel_size_user * scene.normalisation.scale;
     const int cap = options.max_texels_per_side;
+    // Faces that another face runs right across are cut along the contact line, so that no
+    // texel straddles it (imprint.hpp): faces of at least 4 texels.
+    const ImprintResult cut =
+        imprint_contacts(scene, 4.0 * texel * texel, tol * scene.normalisation.scale);
+    if (cut.cut_faces > 0)
+        scene.load_notes.push_back(fmt::format(
+            "{} face(s) cut into {} along the lines where other faces run across them, so "
+            "that no texel straddles a contact line (docs/charts.md \"Contact lines\")",
+            cut.cut_faces, cut.pieces));
     build_charts(scene, texel, cap, options.chart_angle_deg);
     scene.seal_gap = texel;
     subtract_sealed_areas(scene, scene.seal_gap);
