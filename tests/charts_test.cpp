@@ -169,51 +169,6 @@ TEST(Charts, TriangulationDoesNotChangeTheTexels) {
     fs::remove_all(dir);
 }
 
-// Midpoint subdivision of an OBJ of triangles (`v` and `f` lines), `levels` times: every
-// triangle becomes four on the same plane, numbered after their parent.
-void subdivide_obj(const fs::path& in, const fs::path& out, int levels) {
-    std::vector<Vec3> v;
-    std::vector<std::array<int, 3>> f;
-    std::ifstream is(in);
-    for (std::string line; std::getline(is, line);) {
-        std::istringstream ls(line);
-        std::string tag;
-        ls >> tag;
-        if (tag == "v") {
-            Vec3 p;
-            ls >> p.x >> p.y >> p.z;
-            v.push_back(p);
-        } else if (tag == "f") {
-            std::array<int, 3> t{};
-            ls >> t[0] >> t[1] >> t[2];
-            f.push_back({t[0] - 1, t[1] - 1, t[2] - 1});
-        }
-    }
-    for (int l = 0; l < levels; ++l) {
-        std::map<std::pair<int, int>, int> mid;
-        auto m = [&](int a, int b) {
-            const auto key = std::minmax(a, b);
-            const auto it = mid.find(key);
-            if (it != mid.end()) return it->second;
-            v.push_back(0.5 * (v[a] + v[b]));
-            return mid[key] = int(v.size()) - 1;
-        };
-        std::vector<std::array<int, 3>> g;
-        for (const auto& t : f) {
-            const int ab = m(t[0], t[1]), bc = m(t[1], t[2]), ca = m(t[2], t[0]);
-            g.push_back({t[0], ab, ca});
-            g.push_back({ab, t[1], bc});
-            g.push_back({ca, bc, t[2]});
-            g.push_back({ab, bc, ca});
-        }
-        f.swap(g);
-    }
-    std::ofstream os(out);
-    os.precision(17);
-    for (const Vec3& p : v) os << "v " << p.x << " " << p.y << " " << p.z << "\n";
-    for (const auto& t : f) os << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
-}
-
 // Issue 11: the same model cut into 4 and 16 times as many triangles bakes to the same
 // texels: charts are unions of the same surface, and a triangle's rays no longer decide
 // what its texels get. The public Stanford bunny (decimated to 1,000 triangles,
@@ -228,7 +183,7 @@ TEST(Charts, SplittingTheTrianglesOfAModelKeepsItsTexels) {
     std::vector<Scene> scenes;
     for (int levels : {0, 1, 2}) {
         const fs::path obj = dir / ("bunny-" + std::to_string(levels) + ".obj");
-        subdivide_obj(test::source_path("scenes/meshes/stanford-bunny-1k.obj"), obj, levels);
+        test::subdivide_obj(test::source_path("scenes/meshes/stanford-bunny-1k.obj"), obj, levels);
         std::string text = scene;
         text.replace(text.find(mesh), mesh.size(), obj.string());
         scenes.push_back(load_scene_from_string(text, "bunny.json", dir.string()));

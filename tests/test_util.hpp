@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -121,6 +123,52 @@ inline std::unique_ptr<Transport> run_transport(const Scene& scene, const Propag
     auto t = std::make_unique<Transport>(scene, p);
     for (int c = 1; c <= p.cycles; ++c) t->run_cycle(c == p.cycles);
     return t;
+}
+
+// Midpoint subdivision of an OBJ of triangles (`v` and `f` lines), `levels` times: every
+// triangle becomes four on the same plane, numbered after their parent.
+inline void subdivide_obj(const std::filesystem::path& in, const std::filesystem::path& out,
+                          int levels) {
+    std::vector<Vec3> v;
+    std::vector<std::array<int, 3>> f;
+    std::ifstream is(in);
+    for (std::string line; std::getline(is, line);) {
+        std::istringstream ls(line);
+        std::string tag;
+        ls >> tag;
+        if (tag == "v") {
+            Vec3 p;
+            ls >> p.x >> p.y >> p.z;
+            v.push_back(p);
+        } else if (tag == "f") {
+            std::array<int, 3> t{};
+            ls >> t[0] >> t[1] >> t[2];
+            f.push_back({t[0] - 1, t[1] - 1, t[2] - 1});
+        }
+    }
+    for (int l = 0; l < levels; ++l) {
+        std::map<std::pair<int, int>, int> mid;
+        auto m = [&](int a, int b) {
+            const auto key = std::minmax(a, b);
+            const auto it = mid.find(key);
+            if (it != mid.end()) return it->second;
+            v.push_back(0.5 * (v[a] + v[b]));
+            return mid[key] = int(v.size()) - 1;
+        };
+        std::vector<std::array<int, 3>> g;
+        for (const auto& t : f) {
+            const int ab = m(t[0], t[1]), bc = m(t[1], t[2]), ca = m(t[2], t[0]);
+            g.push_back({t[0], ab, ca});
+            g.push_back({ab, t[1], bc});
+            g.push_back({ca, bc, t[2]});
+            g.push_back({ab, bc, ca});
+        }
+        f.swap(g);
+    }
+    std::ofstream os(out);
+    os.precision(17);
+    for (const Vec3& p : v) os << "v " << p.x << " " << p.y << " " << p.z << "\n";
+    for (const auto& t : f) os << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
 }
 
 // A scene from JSON text, its files relative to scenes/.
