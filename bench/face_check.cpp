@@ -83,8 +83,11 @@ int main(int argc, char** argv) try {
             c.normal.x, c.normal.y, c.normal.z);
         const vlf::VertexLight& vl = renderer.bake().vertex_light;
         if (!vl.has(f.id)) continue;
-        std::printf("    area %.3g texel^2, gathered E/pi at its vertices:",
-                    f.area / (c.texels.size * c.texels.size));
+        vlf::Vec3 mid(0.0);
+        for (const vlf::Vec3& v : f.vertices) mid += v;
+        mid = scene.normalisation.to_user(mid / double(f.vertices.size()));
+        std::printf("    at (%.1f %.1f %.1f), area %.3g texel^2, gathered E/pi at its vertices:",
+                    mid.x, mid.y, mid.z, f.area / (c.texels.size * c.texels.size));
         for (size_t v = 0; v < f.vertices.size(); ++v)
             std::printf(" %.4g", double(vl.incident[size_t(vl.first[size_t(f.id)]) + v].y));
         std::printf("\n");

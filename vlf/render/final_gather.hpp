@@ -36,6 +36,11 @@
 
 namespace vlf {
 
+// Only faces of at most this many texels of area are gathered: on a larger face the texels
+// resolve the light more finely than its vertices (a wall panel lit by a window, its
+// corners in the room's shadowed corners, would read dark all over).
+inline constexpr double kGatherFaceTexels = 2.0;
+
 // Faces at one position share a gather point while their normals lie within this angle of
 // the first one's.
 inline constexpr double kGatherShareDeg = 30.0;
@@ -48,10 +53,10 @@ struct GatherStats {
 nlohmann::json to_json(const GatherStats& s);
 
 // The faces the final gather covers: diffuse and not specular (a lamp that also reflects
-// included), of charts whose area is below `below_texels` texel areas, or of curved charts
-// (not planar) and themselves smaller than that; increasing ids. A large face, or a face of
-// a large planar chart, keeps its chart's texels: there the field resolves the light finer
-// than its vertices could.
+// included), of at most kGatherFaceTexels texels of area, in charts whose area is below
+// `below_texels` texel areas or that are curved (not planar); increasing ids. A large face,
+// or a face of a large planar chart (a floor of many triangles), keeps its chart's texels:
+// there the field resolves the light finer than vertices could.
 std::vector<int> faces_to_gather(const Scene& scene, double below_texels);
 
 // Sets bake.vertex_light from the finished field in `bake` (its light maps), with
