@@ -36,6 +36,8 @@ constexpr double kEdgeTexels = 1.0 / 32.0;
 // A beam that meets nothing splits until it is this many texels wide across the scene: a
 // face's corner poking in between its rays is then at most a small part of a texel.
 constexpr double kMissTexels = 0.125;
+// A parallel light's shadow grid (LightBeams::Source::shadow): cells per side.
+constexpr int kShadowGrid = 1024;
 // Dim beams land coarse (power-aware splitting). A beam whose irradiance on the diffuse
 // face it lands on (its power over its footprint's area) is below the fraction `dim`
 // (PropagateParams::light_dim, 10^-3) of its light's mean irradiance over the scene's
@@ -121,6 +123,7 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
                 s.unit_power = l.irradiance / cos_sum;  // E x normalised area
                 s.resolution = std::max(kParallelRoots, per_texel);
                 s.dim_irradiance = dim * brightest(l.irradiance);
+                fill_shadow(s);
                 total += int64_t(s.resolution) * s.resolution;
                 m_sources.push_back(s);
                 m_first.push_back(total);
@@ -144,6 +147,39 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
         m_sources.push_back(s);
         m_first.push_back(total);
     }
+}
+
+void LightBeams::fill_shadow(Source& s) const {
+    s.shadow.assign(size_t(kShadowGrid) * kShadowGrid, 0);
+    auto cell = [](double x) {  // the cell of coordinate x in [-1, 1], clamped
+        return std::clamp(int(std::floor((x + 1.0) * 0.5 * kShadowGrid)), 0, kShadowGrid - 1);
+    };
+    for (const Face& f : m_scene.faces) {
+        double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+        for (const Vec3& p : f.vertices) {
+            const double u = glm::dot(p - s.base, s.e1), v = glm::dot(p - s.base, s.e2);
+            u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+        }
+        if (u1 < -1.0 || u0 > 1.0 || v1 < -1.0 || v0 > 1.0) continue;
+        // One cell of margin on each side: a ray on a cell's boundary is in both.
+        const int i0 = std::max(0, cell(u0) - 1), i1 = std::min(kShadowGrid - 1, cell(u1) + 1);
+        const int j0 = std::max(0, cell(v0) - 1), j1 = std::min(kShadowGrid - 1, cell(v1) + 1);
+        for (int j = j0; j <= j1; ++j)
+            std::fill(s.shadow.begin() + j * kShadowGrid + i0,
+                      s.shadow.begin() + j * kShadowGrid + i1 + 1, uint8_t(1));
+    }
+}
+
+bool LightBeams::meets_nothing(const Source& s, const Rect& r) const {
+    if (!s.parallel || s.shadow.empty()) return false;
+    auto cell = [](double x) {
+        return std::clamp(int(std::floor((x + 1.0) * 0.5 * kShadowGrid)), 0, kShadowGrid - 1);
+    };
+    const int i0 = cell(r.u0), i1 = cell(r.u1), j0 = cell(r.v0), j1 = cell(r.v1);
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i)
+            if (s.shadow[size_t(j) * kShadowGrid + size_t(i)]) return false;
+    return true;
 }
 
 void LightBeams::ray(const Source& s, const Segment&, int side, double u, double v, Vec3& o,
@@ -355,10 +391,11 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         else  // a corner ray misses the plane ahead (a grazing or cut beam): as at an edge
             split |= width > (dim ? kDimEdgeTexels : kEdgeTexels) * m_texel;
     }
-    if (cls[0] == -1 && !split) {
+    if (cls[0] == -1 && !split && !(g.count == 0 && meets_nothing(s, r))) {
         // A beam that meets nothing with all its rays may still hold a corner of the scene
         // poking in between them: it splits until it is as narrow as a leaf where it
-        // crosses the scene (the unit ball).
+        // crosses the scene (the unit ball). Straight from a parallel light, a beam whose
+        // cross-section covers no face's shadow cannot: it ends here (shadow grid).
         const double across =
             s.parallel ? r.u1 - r.u0 : (r.u1 - r.u0) * (glm::length(s.position) + 1.0);
         split = across > (dim ? kDimEdgeTexels : kMissTexels) * m_texel;

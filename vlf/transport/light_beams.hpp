@@ -95,6 +95,10 @@ class LightBeams {
         int resolution = 1;   // root beams per side (of each cube face)
         // A beam dimmer than this (power per normalised area) lands coarse.
         double dim_irradiance = 0.0;
+        // Parallel: which cells of a kShadowGrid x kShadowGrid grid over the root grid's
+        // [-1, 1]^2 some face's shadow (the bounding box of its vertices' projection along
+        // `direction`) touches. A beam from the light over no such cell meets nothing.
+        std::vector<uint8_t> shadow;
     };
     // The specular surfaces a beam has met, in order: each of its rays is traced from the
     // light through them (it must meet each one's front, else it is cut), reflected or
@@ -116,6 +120,8 @@ class LightBeams {
     };
     void ray(const Source& s, const Segment& g, int side, double u, double v, Vec3& o,
              Vec3& d) const;
+    void fill_shadow(Source& s) const;
+    bool meets_nothing(const Source& s, const Rect& r) const;
     void child_weights(const Source& s, const Rect& r, double w[4]) const;
     // A ray of a beam and what it met (cls: the chart of the front face it meets, -1 none,
     // -2 a back face, -3 it missed a surface of its segment's events: beyond a mirror's rim,
