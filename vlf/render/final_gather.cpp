@@ -48,9 +48,18 @@ struct GatherPoint {
     Vec3 normal_sum{0.0};    // area-weighted
     Vec3 centroid_sum{0.0};  // area-weighted centroids of its faces
     double area = 0.0;
-    // Where it gathers: kGatherInset of the way from the vertex to its faces' mean centroid.
+    Vec3 normal{0.0};      // unit: normal_sum normalised
+    double min_cos = 1.0;  // the least cosine between `normal` and one of its faces' normals
+    // Where it gathers: kGatherInset of the way from the vertex towards its faces' mean
+    // centroid, taken in the vertex's tangent plane (on a convex patch that mean lies below
+    // the faces, inside the model), then raised along `normal` as far as its faces can rise
+    // over that distance (on a concave patch they rise above the tangent plane).
     Vec3 site() const {
-        return area > 0.0 ? position + kGatherInset * (centroid_sum / area - position) : position;
+        if (!(area > 0.0)) return position;
+        Vec3 in = kGatherInset * (centroid_sum / area - position);
+        in -= glm::dot(in, normal) * normal;
+        const double c = std::max(min_cos, 0.5);  // faces share a point within 60 degrees
+        return position + in + glm::length(in) * std::sqrt(1.0 - c * c) / c * normal;
     }
 };
 
@@ -151,6 +160,17 @@ GatherStats final_gather(Bake& bake) {
             corner_point.push_back(found);
         }
     }
+    for (GatherPoint& g : points) {
+        const double len = glm::length(g.normal_sum);
+        g.normal = len > 0.0 ? g.normal_sum / len : g.first_normal;
+    }
+    for (size_t k = 0, c = 0; k < faces.size(); ++k) {
+        const Face& f = scene.faces[size_t(faces[k])];
+        for (size_t v = 0; v < f.vertices.size(); ++v, ++c) {
+            GatherPoint& g = points[size_t(corner_point[c])];
+            g.min_cos = std::min(g.min_cos, glm::dot(g.normal, f.normal));
+        }
+    }
 
     bool sun_disc = false;
     for (const Light& l : scene.lights)
@@ -162,12 +182,10 @@ GatherStats final_gather(Bake& bake) {
         0, long(points.size()),
         [&](long i) {
             const GatherPoint& g = points[size_t(i)];
-            const double len = glm::length(g.normal_sum);
-            const Vec3 n = len > 0.0 ? g.normal_sum / len : g.first_normal;
             Pcg32 rng(kGatherSeed, uint64_t(i));
             int backs = 0;
             value[size_t(i)] =
-                RgbF(gather_at(renderer, scene, g.site(), n, K, sun_disc, rng, backs));
+                RgbF(gather_at(renderer, scene, g.site(), g.normal, K, sun_disc, rng, backs));
             inside[size_t(i)] = 2 * backs > K ? 1 : 0;
         },
         64);
