@@ -13,6 +13,7 @@
 #include "vlf/core/error.hpp"
 #include "vlf/render/face_probe.hpp"
 #include "vlf/render/render.hpp"
+#include "vlf/scene/primitives.hpp"
 
 int main(int argc, char** argv) try {
     if (argc < 3 || argc > 6) {
@@ -74,9 +75,8 @@ int main(int argc, char** argv) try {
     std::printf("brighter than twice: %zu beyond 3 standard errors\n", bright.size());
     for (size_t i = 0; i < std::min<size_t>(bright.size(), 5); ++i) {
         const vlf::Face& f = renderer.bake().scene.faces[size_t(bright[i].face)];
-        vlf::Vec3 c(0.0);
-        for (const vlf::Vec3& v : f.vertices) c += v;
-        c = renderer.bake().scene.normalisation.to_user(c / double(f.vertices.size()));
+        const vlf::Vec3 c =
+            renderer.bake().scene.normalisation.to_user(vlf::polygon_centroid(f.vertices));
         std::printf("  face %d: %.4g vs %.4g +- %.2g at (%.1f %.1f %.1f)\n", bright[i].face,
                     bright[i].value, bright[i].reference, bright[i].std_error, c.x, c.y, c.z);
     }
@@ -96,9 +96,7 @@ int main(int argc, char** argv) try {
             c.normal.x, c.normal.y, c.normal.z);
         const vlf::VertexLight& vl = renderer.bake().vertex_light;
         if (!vl.has(f.id)) continue;
-        vlf::Vec3 mid(0.0);
-        for (const vlf::Vec3& v : f.vertices) mid += v;
-        mid = scene.normalisation.to_user(mid / double(f.vertices.size()));
+        const vlf::Vec3 mid = scene.normalisation.to_user(vlf::polygon_centroid(f.vertices));
         std::printf("    at (%.1f %.1f %.1f), area %.3g texel^2, gathered E/pi at its vertices:",
                     mid.x, mid.y, mid.z, f.area / (c.texels.size * c.texels.size));
         for (size_t v = 0; v < f.vertices.size(); ++v)

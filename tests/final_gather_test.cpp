@@ -34,11 +34,7 @@ namespace {
 #endif
 
 PropagateParams field(int l, int N, int m, int cycles, int gather) {
-    PropagateParams p;
-    p.field.directions = l;
-    p.field.resolution = N;
-    p.field.tile = m;
-    p.cycles = cycles;
+    PropagateParams p = test::params(l, N, m, cycles, /*deferred=*/true);
     p.gather = gather;
     return p;
 }

@@ -2,13 +2,13 @@
 #include "vlf/render/final_gather.hpp"
 
 #include <cmath>
-#include <cstring>
 #include <unordered_map>
 
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/render/pathtrace.hpp"
 #include "vlf/render/render.hpp"
+#include "vlf/scene/primitives.hpp"
 
 namespace vlf {
 
@@ -29,17 +29,7 @@ constexpr double kGatherInset = 0.5;
 constexpr uint64_t kGatherSeed = 0x6761746865720001ull;
 
 struct PositionHash {
-    size_t operator()(const Vec3& p) const {
-        uint64_t h = 1469598103934665603ull;
-        for (int c = 0; c < 3; ++c) {
-            uint64_t bits;
-            const double v = p[c] == 0.0 ? 0.0 : p[c];  // -0 and +0 alike
-            std::memcpy(&bits, &v, sizeof bits);
-            h = (h ^ bits) * 1099511628211ull;
-            h ^= h >> 29;
-        }
-        return size_t(h);
-    }
+    size_t operator()(const Vec3& p) const { return size_t(position_hash(p)); }
 };
 
 struct GatherPoint {
@@ -137,9 +127,7 @@ GatherStats final_gather(Bake& bake) {
     for (int id : faces) {
         const Face& f = scene.faces[size_t(id)];
         light.first[size_t(id)] = int64_t(corner_point.size());
-        Vec3 centroid(0.0);
-        for (const Vec3& p : f.vertices) centroid += p;
-        centroid /= double(f.vertices.size());
+        const Vec3 centroid = polygon_centroid(f.vertices);
         for (const Vec3& p : f.vertices) {
             std::vector<int>& here = at_position[p];
             int found = -1;
@@ -210,9 +198,7 @@ GatherStats final_gather(Bake& bake) {
         0, long(refold.size()),
         [&](long i) {
             const Face& f = scene.faces[size_t(refold[size_t(i)])];
-            Vec3 c(0.0);
-            for (const Vec3& p : f.vertices) c += p;
-            c /= double(f.vertices.size());
+            const Vec3 c = polygon_centroid(f.vertices);
             Pcg32 rng(kGatherSeed, uint64_t(points.size()) + uint64_t(i));
             int backs = 0;
             centre[size_t(i)] =

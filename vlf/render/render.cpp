@@ -341,8 +341,9 @@ Rgb Renderer::gather_radiance(const Vec3& origin, const Vec3& dir, int max_depth
         if (back && f.twin < 0) *back = true;
         return Rgb(0.0);
     }
-    Rgb L = r.raytrace(origin, dir, max_depth);
     const Material& m = m_bake.scene.material_of(f);
+    // A diffuse face met first is what raytrace mode would read there: no second cast.
+    Rgb L = m.is_specular() ? r.raytrace(origin, dir, max_depth) : r.diffuse_part(f, hit.point);
     if (m.is_emitter()) L = glm::max(L - m.emission, Rgb(0.0));  // the light samples' part
     return L;
 }

@@ -24,18 +24,6 @@ struct EdgeRef {
     int edge;
 };
 
-uint64_t point_hash(const Vec3& p) {
-    uint64_t h = 1469598103934665603ull;
-    for (int c = 0; c < 3; ++c) {
-        uint64_t bits;
-        const double x = p[c] == 0.0 ? 0.0 : p[c];  // -0 == +0
-        std::memcpy(&bits, &x, sizeof bits);
-        h = (h ^ bits) * 1099511628211ull;
-        h ^= h >> 29;
-    }
-    return h;
-}
-
 bool less_point(const Vec3& a, const Vec3& b) {
     return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
 }
@@ -57,7 +45,7 @@ std::vector<int> find_neighbours(const std::vector<Face>& faces, const std::vect
         const Face& f = faces[fi];
         for (int e = 0; e < int(f.vertices.size()); ++e) {
             const auto [a, b] = ends(f, e);
-            edges[offset[fi] + e] = {point_hash(a) * 31 ^ point_hash(b), f.id, e};
+            edges[offset[fi] + e] = {position_hash(a) * 31 ^ position_hash(b), f.id, e};
         }
     });
     // A total order (key, face, edge): the parallel sort gives the one result.

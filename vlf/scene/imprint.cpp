@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "vlf/core/parallel.hpp"
+#include "vlf/scene/primitives.hpp"
 
 namespace vlf {
 
@@ -221,10 +222,7 @@ ImprintResult imprint_contacts(Scene& scene, double min_area, double tol) {
                 g.cut_edges = 0;
                 for (size_t e = 0; e < p.cut.size(); ++e)
                     if (p.cut[e]) g.cut_edges |= uint64_t(1) << e;
-                Vec3 nv(0.0);
-                for (size_t i = 0; i < p.v.size(); ++i)
-                    nv += glm::cross(p.v[i], p.v[(i + 1) % p.v.size()]);
-                g.area = 0.5 * glm::length(nv);
+                g.area = polygon_area(p.v);
                 out.push_back(std::move(g));
             }
         }

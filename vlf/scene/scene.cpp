@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace vlf {
 
@@ -25,6 +26,18 @@ Rgb Scene::albedo_at(const Face& f, const Vec3& x, double footprint) const {
     for (int ch = 0; ch < 3; ++ch)
         out[ch] = mean[ch] > 0 ? m.diffuse[ch] * local[ch] / mean[ch] : 0.0;
     return glm::min(out, Rgb(1.0) - m.specular);
+}
+
+uint64_t position_hash(const Vec3& p) {
+    uint64_t h = 1469598103934665603ull;
+    for (int c = 0; c < 3; ++c) {
+        uint64_t bits;
+        const double x = p[c] == 0.0 ? 0.0 : p[c];  // -0 == +0
+        std::memcpy(&bits, &x, sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+        h ^= h >> 29;
+    }
+    return h;
 }
 
 void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,

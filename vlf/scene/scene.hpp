@@ -190,6 +190,10 @@ struct Scene {
     int specular_face_count() const;  // faces whose material has rho_s > 0
 };
 
+// A hash of a point's coordinates, bit for bit (-0 and +0 alike): for finding the vertices
+// that faces share.
+uint64_t position_hash(const Vec3& p);
+
 // Interpolation weights of x over the vertices of a convex planar polygon with unit normal n
 // (they sum to 1, and reproduce x): barycentric for a triangle, Floater's mean value
 // coordinates otherwise (smooth inside, linear along the edges, the triangle's barycentrics

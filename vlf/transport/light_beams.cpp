@@ -38,6 +38,11 @@ constexpr double kEdgeTexels = 1.0 / 32.0;
 constexpr double kMissTexels = 0.125;
 // A parallel light's shadow grid (LightBeams::Source::shadow): cells per side.
 constexpr int kShadowGrid = 1024;
+
+// The shadow grid's cell of a coordinate x in [-1, 1], clamped.
+int shadow_cell(double x) {
+    return std::clamp(int(std::floor((x + 1.0) * 0.5 * kShadowGrid)), 0, kShadowGrid - 1);
+}
 // Dim beams land coarse (power-aware splitting). A beam whose irradiance on the diffuse
 // face it lands on (its power over its footprint's area) is below the fraction `dim`
 // (PropagateParams::light_dim, 10^-3) of its light's mean irradiance over the scene's
@@ -151,9 +156,6 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
 
 void LightBeams::fill_shadow(Source& s) const {
     s.shadow.assign(size_t(kShadowGrid) * kShadowGrid, 0);
-    auto cell = [](double x) {  // the cell of coordinate x in [-1, 1], clamped
-        return std::clamp(int(std::floor((x + 1.0) * 0.5 * kShadowGrid)), 0, kShadowGrid - 1);
-    };
     for (const Face& f : m_scene.faces) {
         double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
         for (const Vec3& p : f.vertices) {
@@ -162,8 +164,10 @@ void LightBeams::fill_shadow(Source& s) const {
         }
         if (u1 < -1.0 || u0 > 1.0 || v1 < -1.0 || v0 > 1.0) continue;
         // One cell of margin on each side: a ray on a cell's boundary is in both.
-        const int i0 = std::max(0, cell(u0) - 1), i1 = std::min(kShadowGrid - 1, cell(u1) + 1);
-        const int j0 = std::max(0, cell(v0) - 1), j1 = std::min(kShadowGrid - 1, cell(v1) + 1);
+        const int i0 = std::max(0, shadow_cell(u0) - 1),
+                  i1 = std::min(kShadowGrid - 1, shadow_cell(u1) + 1);
+        const int j0 = std::max(0, shadow_cell(v0) - 1),
+                  j1 = std::min(kShadowGrid - 1, shadow_cell(v1) + 1);
         for (int j = j0; j <= j1; ++j)
             std::fill(s.shadow.begin() + j * kShadowGrid + i0,
                       s.shadow.begin() + j * kShadowGrid + i1 + 1, uint8_t(1));
@@ -172,10 +176,8 @@ void LightBeams::fill_shadow(Source& s) const {
 
 bool LightBeams::meets_nothing(const Source& s, const Rect& r) const {
     if (!s.parallel || s.shadow.empty()) return false;
-    auto cell = [](double x) {
-        return std::clamp(int(std::floor((x + 1.0) * 0.5 * kShadowGrid)), 0, kShadowGrid - 1);
-    };
-    const int i0 = cell(r.u0), i1 = cell(r.u1), j0 = cell(r.v0), j1 = cell(r.v1);
+    const int i0 = shadow_cell(r.u0), i1 = shadow_cell(r.u1), j0 = shadow_cell(r.v0),
+              j1 = shadow_cell(r.v1);
     for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i)
             if (s.shadow[size_t(j) * kShadowGrid + size_t(i)]) return false;
