@@ -56,7 +56,7 @@ identical)
   "$propagate" "${lights[@]}" -o lights1.vlf > /dev/null
   "${mpirun[@]}" -np 3 "$propagate" "${lights[@]}" -o lights3.vlf > /dev/null
   same_bake lights3.vlf lights1.vlf
-  # Smooth glass: the specular sources with per-pixel weights (reflect_smooth) cross ranks.
+  # Smooth glass: the smooth surfaces' sources (surface_specular.hpp) cross ranks.
   glass=("$src/tests/scenes/glass-room.json" -l 129 -N 32 -m 8 -c 3 -q)
   "$propagate" "${glass[@]}" -o glass1.vlf > /dev/null
   "${mpirun[@]}" -np 2 "$propagate" "${glass[@]}" -o glass2.vlf > /dev/null

@@ -131,111 +131,27 @@ void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3&
                 one.target_direction[size_t(one.targets)] = targets[size_t(i)].direction;
                 one.target_power[size_t(one.targets++)] = power * targets[size_t(i)].weight;
             }
-        res.sources.push_back(std::move(one));
+        res.sources.faces.push_back(std::move(one));
     }
 }
 
-// A smooth face (Face::vertex_normals) turns each of its rays about the shading normal at
-// the ray's point (specular_turn.hpp), so a tessellated sphere reflects and refracts in the
-// field as a sphere does, not facet by facet (docs/propagation.md §13). Each ray's power
-// goes to the directions enclosing its own turned direction. Each (target face, direction)
-// gets a weight per window pixel, the part of that pixel's power that goes there (with its
-// Fresnel R or 1 - R at glass), so the gather lays out each direction's light where the
-// surface sends it; the directions of one target face share a source (the window once, up
-// to three directions each). The parts sum to what the face turns: exact energy.
-void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
-                    const Received& r, const Material& mat, const Vec3& incoming,
-                    const std::vector<Rgb>& in, ChunkResult& res) {
-    const Scene& scene = pc.scene;
-    const Face& face = scene.faces[f];
-    const SpecularSource window = source_window(pc, pd, f, frags, r, in);
-    struct Part {
-        int face, direction;
-        std::vector<float> weight;  // per window pixel
-        Rgb power{0.0};
-    };
-    std::vector<Part> parts;
-    auto part = [&](int onto, int d) -> Part& {
-        for (Part& p : parts)
-            if (p.face == onto && p.direction == d) return p;
-        parts.push_back({onto, d, std::vector<float>(window.radiance.size(), 0.0f), Rgb(0.0)});
-        return parts.back();
-    };
-    struct Resolved {
-        int onto, d, face;
-    };
-    std::vector<Resolved> resolved;  // specular_target_face, once per (face, direction)
-    auto target_face = [&](int onto, int d, int sense) {
-        for (const Resolved& x : resolved)
-            if (x.onto == onto && x.d == d) return x.face;
-        const int g = specular_target_face(scene, scene.faces[size_t(onto)], d,
-                                           pc.dirs.direction(d) * double(sense), pc.coverage);
-        resolved.push_back({onto, d, g});
-        return g;
-    };
-    // Power p of the pixel at `at` leaves face `onto`'s front along `out`, its part `frac`
-    // of what the pixel received.
-    auto branch = [&](int onto, const Vec3& out, const Rgb& p, double frac, size_t at) {
-        const EnclosingTriangle tri = pc.dirs.enclosing(out);
-        std::array<int, 3> to{-1, -1, -1};
-        double sum = 0.0;
-        for (int i = 0; i < 3; ++i)
-            if (tri.weight[i] > 0.0) {
-                to[size_t(i)] = target_face(onto, tri.index[i], tri.sense[i]);
-                if (to[size_t(i)] >= 0) sum += tri.weight[i];
-            }
-        if (sum <= 0.0) {
-            res.lost.grazing_mirror += p;  // no PSF can carry it
-            return;
-        }
-        for (int i = 0; i < 3; ++i) {
-            if (to[size_t(i)] < 0) continue;
-            const double w = tri.weight[i] / sum;
-            Part& q = part(to[size_t(i)], tri.index[i]);
-            q.weight[at] += float(frac * w);
-            q.power += p * w;
-        }
-    };
+// The rays of smooth face f in this direction, to its surface's list for the side it faces
+// (surface_specular.hpp makes the sources).
+void collect_surface_rays(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
+                          const std::vector<Rgb>& in, std::vector<std::vector<SurfaceRay>>& out) {
+    const Face& face = pc.scene.faces[f];
     const Mat3& rot = pc.rotations[pd.d];
     const Mat3 rt = glm::transpose(rot);
     const Vec3 nr = rot * face.normal;
+    std::vector<SurfaceRay>& rays = out[size_t(pc.surfaces.of_face[f]) * 2 + (nr.z > 0 ? 0 : 1)];
     for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-            const Rgb p = in[base + uint32_t(k)];
-            if (p.x <= 0 && p.y <= 0 && p.z <= 0) return;
             const int i = tile.s * pc.m + u, j = tile.t * pc.m + v;
             const double x = (2.0 * i + 1.0) / pc.N - 1.0, y = (2.0 * j + 1.0) / pc.N - 1.0;
             const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
-            const SpecularTurn t = specular_turn(scene, face, rt * Vec3(x, y, z), incoming);
-            const size_t at = size_t(j - window.j0) * window.width + size_t(i - window.i0);
-            if (!mat.dielectric) {
-                branch(int(f), t.reflected, p * mat.specular, 1.0, at);
-                return;
-            }
-            if (t.refracts) branch(face.twin, t.refracted, p * (1.0 - t.R), 1.0 - t.R, at);
-            branch(int(f), t.reflected, p * t.R, t.R, at);
+            rays.push_back({int(f), i, j, in[base + uint32_t(k)], rt * Vec3(x, y, z), z});
         });
     });
-    // One source per target face and up to three of its directions: the window once, the
-    // parts' pixel weights beside it.
-    std::vector<char> done(parts.size(), 0);
-    for (size_t a = 0; a < parts.size(); ++a) {
-        if (done[a]) continue;
-        SpecularSource one = window;
-        one.face = parts[a].face;
-        one.targets = 0;
-        for (size_t b = a; b < parts.size() && one.targets < 3; ++b) {
-            const Part& q = parts[b];
-            if (done[b] || q.face != one.face) continue;
-            done[b] = 1;
-            if (!(q.power.x > 0 || q.power.y > 0 || q.power.z > 0)) continue;
-            const size_t k = size_t(one.targets++);
-            one.target_direction[k] = q.direction;
-            one.target_power[k] = q.power;
-            one.pixel_weight.insert(one.pixel_weight.end(), q.weight.begin(), q.weight.end());
-        }
-        if (one.targets > 0) res.sources.push_back(std::move(one));
-    }
 }
 
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
@@ -243,8 +159,8 @@ void reflect_smooth(const PassContext& pc, const PassDirection& pd, size_t f, Fr
 // directions enclosing the mirrored one (specular.hpp). At glass (docs/propagation.md §13)
 // the Fresnel reflectance R of the direction's angle of incidence is reflected so, and
 // 1 - R is refracted: gathered into the twin's maps (the other side of the interface)
-// around the refracted direction; past the critical angle all of it is reflected. A smooth
-// face turns ray by ray (reflect_smooth).
+// around the refracted direction; past the critical angle all of it is reflected. Smooth
+// faces are their surfaces' (collect_surface_rays).
 void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
                       const Received& r, const Material& mat, const std::vector<Rgb>& in,
                       ChunkResult& res) {
@@ -252,10 +168,6 @@ void reflect_specular(const PassContext& pc, const PassDirection& pd, size_t f, 
     const Mat3& rot = pc.rotations[pd.d];
     const int facing = (rot * face.normal).z > 0 ? 1 : -1;
     const Vec3 incoming = pd.g.psf.omega * double(-facing);  // light travels towards the face
-    if (!face.vertex_normals.empty()) {
-        reflect_smooth(pc, pd, f, frags, r, mat, incoming, in, res);
-        return;
-    }
     const Vec3 mirrored = reflect(incoming, face.normal);
     const SpecularSource src = source_window(pc, pd, f, frags, r, in);
     if (!mat.dielectric) {
@@ -343,14 +255,22 @@ void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, 
 
 // VLF §4.1 line 10, §4.2-4.3, face by face: what a face receives is absorbed by
 // (1 - rho_d - rho_s), rho_d of it goes to P^N, rho_s of it becomes a specular source.
-void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
-                  ChunkResult& res) {
+void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
+    const SmoothSurfaces& surfaces = pc.surfaces;
+    w.surface_rays.resize(size_t(surfaces.size()) * 2);
+    for (auto& v : w.surface_rays) v.clear();
     for (size_t k = 0; k < g.faces.size(); ++k) {
         const uint32_t f = g.faces[k];
         const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
         const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
         const Received r = gather_received(pc, g, frags, w.in);
+        if (surfaces.of_face[f] >= 0) {
+            // A smooth surface's rays, lit or not (the source's window is the whole surface).
+            if (!mat.dielectric) res.absorbed += r.power * (Rgb(1.0) - mat.specular);
+            collect_surface_rays(pc, pd, f, frags, w.in, w.surface_rays);
+            continue;
+        }
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
         // What is neither reflected diffusely (by the texels' albedo, which a texture
         // varies) nor specularly is absorbed.
@@ -360,6 +280,18 @@ void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch&
         if (!mat.dielectric) res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
         if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat, w.in, res);
     }
+    // The smooth surfaces' sources, surface by surface, each side (facing +z first).
+    if (surfaces.empty()) return;
+    if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
+    SurfaceSources& out = res.sources.surfaces.back();
+    out.frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
+    for (int s = 0; s < surfaces.size(); ++s)
+        for (int side = 0; side < 2; ++side) {
+            const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
+            make_surface_sources(pc.scene, pc.dirs, surfaces, s, pd.beam, incoming,
+                                 w.surface_rays[size_t(s) * 2 + side], res.lost.grazing_mirror,
+                                 out);
+        }
 }
 
 }  // namespace vlf::transport_detail

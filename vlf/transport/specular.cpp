@@ -11,6 +11,11 @@
 
 namespace vlf {
 
+namespace {
+
+// The face that carries light leaving f's front along PSF line d, travelling along `omega`
+// (that line in its sense): f when it shows its front there and has rays, else the nearest
+// face of f's chart that does; -1 when none can.
 int specular_target_face(const Scene& scene, const Face& f, int d, const Vec3& omega,
                          const Coverage& coverage) {
     auto usable = [&](const Face& g) {
@@ -28,6 +33,8 @@ int specular_target_face(const Scene& scene, const Face& f, int d, const Vec3& o
     }
     return face;
 }
+
+}  // namespace
 
 int chart_specular_targets(const Scene& scene, const DirectionSet& dirs, const Face& f,
                            const Vec3& outgoing, const Coverage& coverage,
@@ -62,18 +69,14 @@ struct TargetRef {
     int target;  // its index among the source's targets
 };
 
-// Incoming radiance of the source at pixel (i, j), for its target k (a smooth face's
-// pixel weights): the covered pixel itself, else the mean of covered 8-neighbours (the
-// beam hit the face there but the centre fell just outside).
-bool sample_source(const SpecularSource& s, int k, int i, int j, RgbF& value) {
+// Incoming radiance of the source at pixel (i, j): the covered pixel itself, else the
+// mean of covered 8-neighbours (the beam hit the face there but the centre fell just
+// outside).
+bool sample_source(const SpecularSource& s, int i, int j, RgbF& value) {
     const int x = i - s.i0, y = j - s.j0;
-    const size_t plane = size_t(s.width) * s.height * size_t(k);
     auto at = [&](int a, int b) { return size_t(b) * s.width + a; };
-    auto radiance = [&](size_t p) {
-        return s.pixel_weight.empty() ? s.radiance[p] : s.radiance[p] * s.pixel_weight[plane + p];
-    };
     if (x >= 0 && y >= 0 && x < s.width && y < s.height && s.covered[at(x, y)]) {
-        value = radiance(at(x, y));
+        value = s.radiance[at(x, y)];
         return true;
     }
     RgbF sum(0.0f);
@@ -81,7 +84,7 @@ bool sample_source(const SpecularSource& s, int k, int i, int j, RgbF& value) {
     for (int b = y - 1; b <= y + 1; ++b)
         for (int a = x - 1; a <= x + 1; ++a)
             if (a >= 0 && b >= 0 && a < s.width && b < s.height && s.covered[at(a, b)]) {
-                sum += radiance(at(a, b));
+                sum += s.radiance[at(a, b)];
                 ++n;
             }
     if (n == 0) return false;
@@ -144,7 +147,7 @@ std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
                     const int i = static_cast<int>(std::floor((q.x + 1.0) * 0.5 * src.resolution));
                     const int j = static_cast<int>(std::floor((q.y + 1.0) * 0.5 * src.resolution));
                     RgbF value;
-                    g[k] = sample_source(src, refs[r].target, i, j, value) ? Rgb(value) : Rgb(0.0);
+                    g[k] = sample_source(src, i, j, value) ? Rgb(value) : Rgb(0.0);
                     total += g[k];
                 }
                 const Rgb deposit = src.target_power[size_t(refs[r].target)];

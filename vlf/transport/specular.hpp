@@ -39,10 +39,6 @@ struct SpecularSource {
     // The power deposited into each target direction (of rho_s * received, or Fresnel's
     // share at glass), normalised units.
     std::array<Rgb, 3> target_power{};
-    // A smooth face's source (receive_step.cpp reflect_smooth), else empty: per target, the
-    // part of each window pixel's light that goes there (target-major, width x height
-    // each); the gather lays target k out by radiance x its weights.
-    std::vector<float> pixel_weight;
 };
 
 // The enclosing PSF directions of `outgoing` (a travel direction leaving face `f`'s front:
@@ -60,12 +56,6 @@ struct SpecularTarget {
 int chart_specular_targets(const Scene& scene, const DirectionSet& dirs, const Face& f,
                            const Vec3& outgoing, const Coverage& coverage,
                            std::array<SpecularTarget, 3>& out);
-// The face that carries light leaving f's front along PSF line d, travelling along `omega`
-// (that line in its sense): f when it shows its front there and has rays, else the nearest
-// face of f's chart that does (as above); -1 when none can. A smooth face's rays turn one
-// by one (receive_step.cpp reflect_smooth) and each picks its target faces so.
-int specular_target_face(const Scene& scene, const Face& f, int d, const Vec3& omega,
-                         const Coverage& coverage);
 
 // Phase 2: gathers every source into maps.unshot_next, adding to what it holds (a cycle
 // zeroes it once, then every pass of the cycle, perturbed or not, adds its deposits).

@@ -70,7 +70,7 @@ double Transport::to_user_power() const {
 
 int64_t Transport::memory_bytes() const {
     return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
-           m_other.bytes() + m_coverage.bytes() +
+           m_other.bytes() + m_coverage.bytes() + m_surface_rays.bytes() +
            static_cast<int64_t>(m_work->chunks.capacity() * m_tex.texels() * sizeof(Rgb)) +
            geometry_cache_bytes();
 }
@@ -98,7 +98,7 @@ void Transport::shoot_small_emitters(const RayCaster& caster) {
     const uint64_t K =
         std::clamp<uint64_t>(uint64_t(256) * m_tex.texels(), uint64_t(1) << 20, uint64_t(1) << 25);
     const uint64_t chunks = uint64_t(m_params.chunks);
-    std::vector<SpecularSource> none;
+    PassSources none;
     for (int chart : m_small_emitters) {
         const size_t b = m_tex.begin(chart), n = m_tex.count(chart);
         const Rgb power = TextureMaps::sum(m_tex.current, b, n);
@@ -128,7 +128,7 @@ void Transport::shoot_lights(const RayCaster& caster) {
     // rim pooling and the filter, which are there for the field's beams (run_cycle).
     std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
     std::swap(held, m_tex.next);
-    std::vector<SpecularSource> none;
+    PassSources none;
     // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
     run_chunks(
         [&](long c, ChunkResult& res) {
@@ -181,6 +181,7 @@ void Transport::run_pass(int pass, double share) {
     const PassContext pc{.scene = m_scene,
                          .dirs = m_dirs,
                          .coverage = m_coverage,
+                         .surfaces = m_surfaces,
                          .charts = directions.charts,
                          .record_charts = !directions.norms_known,
                          .tex = m_tex,
@@ -213,7 +214,7 @@ void Transport::run_pass(int pass, double share) {
     // Chunks run in waves; each wave's accumulators are reduced in chunk order before the
     // next wave starts, so only a wave's worth of P^N accumulators is alive and the sums
     // are the same as reducing all chunks at the end (DESIGN §5 Parallelism).
-    std::vector<SpecularSource> sources;
+    PassSources sources;
     run_chunks(
         [&](long c, ChunkResult& res) {
             Scratch& w = m_work->scratch.local();
@@ -232,8 +233,11 @@ void Transport::run_pass(int pass, double share) {
     if (!sources.empty()) {
         // Each rank deposits into its own directions; the rounding is summed in direction
         // order across the ranks (DESIGN §5 Parallelism).
-        const std::vector<Rgb> rounding =
-            gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources, m_spec);
+        std::vector<Rgb> rounding =
+            gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources.faces, m_spec);
+        const std::vector<Rgb> smooth = gather_surface_sources(
+            m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces, m_surface_rays, m_spec);
+        for (size_t d = 0; d < rounding.size(); ++d) rounding[d] += smooth[d];
         Rgb sum(0.0);
         sum_in_rank_order(sum, [&](Rgb& s) {
             for (const Rgb& r : rounding) s += r;
@@ -246,7 +250,7 @@ void Transport::run_pass(int pass, double share) {
 
 // The reductions of a wave, in chunk order (DESIGN §5 Parallelism): P^N, the ledger, the
 // timings, and the specular sources (in chunk order, then direction order within a chunk).
-void Transport::reduce_chunks(int count, std::vector<SpecularSource>& sources) {
+void Transport::reduce_chunks(int count, PassSources& sources) {
     for (int k = 0; k < count; ++k) {
         ChunkResult& c = m_work->chunks[k];
         for (size_t t = 0; t < m_tex.texels(); ++t) m_tex.next[t] += c.next[t];
@@ -260,7 +264,8 @@ void Transport::reduce_chunks(int count, std::vector<SpecularSource>& sources) {
         m_timings.clipping += c.times.clipping;
         m_timings.exchange += c.times.exchange;
         m_timings.transfer += c.times.transfer;
-        for (SpecularSource& src : c.sources) sources.push_back(std::move(src));
+        for (SpecularSource& src : c.sources.faces) sources.faces.push_back(std::move(src));
+        for (SurfaceSources& s : c.sources.surfaces) sources.surfaces.push_back(std::move(s));
     }
 }
 

@@ -40,6 +40,8 @@
 #include "vlf/transport/parameters.hpp"
 #include "vlf/transport/ranks.hpp"
 #include "vlf/transport/rim_pools.hpp"
+#include "vlf/transport/smooth_surfaces.hpp"
+#include "vlf/transport/surface_specular.hpp"
 #include "vlf/transport/texel_clip.hpp"
 
 namespace vlf {
@@ -61,7 +63,7 @@ struct ChartCosine {
     uint32_t chart;
     double cosine;
 };
-struct SpecularSource;
+struct PassSources;
 namespace transport_detail {
 struct ChunkResult;
 }
@@ -174,12 +176,12 @@ class Transport {
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
     // Adds the first `count` chunk accumulators of the workspace, in chunk order.
-    void reduce_chunks(int count, std::vector<SpecularSource>& sources);
+    void reduce_chunks(int count, PassSources& sources);
     // Runs compute(c, result) for every chunk c this rank owns and reduces all
     // params().chunks chunks in chunk order into P^N, the running ledger and `sources`, whatever
     // the number of ranks and threads (transport_ranks.cpp).
     void run_chunks(const std::function<void(long, transport_detail::ChunkResult&)>& compute,
-                    std::vector<SpecularSource>& sources);
+                    PassSources& sources);
     // After a pass's first run on several ranks: every direction's recorded charts.
     void share_charts(Pass& pass);
     // A sum over the directions in direction order across the ranks (DESIGN §5): rank r
@@ -195,9 +197,11 @@ class Transport {
     const Scene& m_scene;
     PropagateParams m_params;
     DirectionSet m_dirs;
-    std::vector<Mat3> m_rot;     // per direction (= m_passes[0].rotations)
-    Coverage m_coverage;         // stored faces and emitters, on the N x N grid
-    std::vector<Pass> m_passes;  // the true directions, then each perturbation
+    std::vector<Mat3> m_rot;         // per direction (= m_passes[0].rotations)
+    Coverage m_coverage;             // stored faces and emitters, on the N x N grid
+    SmoothSurfaces m_surfaces;       // smooth mirrors and glass: one source per surface
+    SurfaceRayCache m_surface_rays;  // their rays per direction, for the gathers
+    std::vector<Pass> m_passes;      // the true directions, then each perturbation
     TextureMaps m_tex;
     RadianceMaps m_spec;                   // L_U, L_T of specular faces, own directions
     RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays), own

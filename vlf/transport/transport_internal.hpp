@@ -22,6 +22,7 @@
 #include "vlf/scene/scene.hpp"
 #include "vlf/transport/ledger.hpp"
 #include "vlf/transport/specular.hpp"
+#include "vlf/transport/surface_specular.hpp"
 #include "vlf/transport/texel_clip.hpp"
 #include "vlf/transport/transport.hpp"
 
@@ -70,6 +71,14 @@ void for_fragments(const DirectionGeometry& g, std::pair<uint32_t, uint32_t> ran
     }
 }
 
+// The specular sources of a pass: per face (flat mirrors and glass, specular.hpp) and per
+// smooth surface (surface_specular.hpp), in chunk order, then direction order.
+struct PassSources {
+    std::vector<SpecularSource> faces;
+    std::vector<SurfaceSources> surfaces;  // per chunk that has any, in chunk order
+    bool empty() const { return faces.empty() && surfaces.empty(); }
+};
+
 namespace transport_detail {
 
 // Directions are split into PropagateParams::chunks fixed chunks, independent of the
@@ -102,6 +111,7 @@ struct Scratch {
     std::vector<std::pair<uint32_t, uint32_t>> by_chart;  // (chart, index into faces)
     std::vector<uint32_t> present;                        // one chart's part of by_chart
     std::vector<uint32_t> slot_face;                      // attenuate_step: per slot, its face
+    std::vector<std::vector<SurfaceRay>> surface_rays;    // receive_step: per (surface, side)
 };
 
 // What one chunk of directions adds to the pass; reduced in chunk order.
@@ -111,7 +121,7 @@ struct ChunkResult {
     NumericalLoss lost;
     Rgb emitted{0.0};    // the lights' first shot: power of the root beams
     int64_t leaves = 0;  // the lights' first shot: leaf beams traced
-    std::vector<SpecularSource> sources;
+    PassSources sources;
     StepTimes times;
     // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
     void reset(size_t texels) {
@@ -119,7 +129,8 @@ struct ChunkResult {
         absorbed = absorbed_back = escaped = emitted = Rgb(0.0);
         leaves = 0;
         lost = NumericalLoss{};
-        sources.clear();
+        sources.faces.clear();
+        sources.surfaces.clear();  // (moved out by the reduction)
         times = StepTimes{};
     }
 };
@@ -166,6 +177,7 @@ struct PassContext {
     const Scene& scene;
     const DirectionSet& dirs;
     const Coverage& coverage;  // stored faces and emitters, on the N x N grid
+    const SmoothSurfaces& surfaces;
     // Per direction, the charts with rays in it and their projected cosines: recorded in
     // the pass's first run (`record_charts`), read by the senders.
     std::vector<std::vector<ChartCosine>>& charts;
@@ -199,8 +211,7 @@ void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res);
 // Beer-Lambert inside glass (receive_step.cpp): w.in of absorbing glass's inner faces.
 void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res);
 // VLF §4.1 line 10, §4.2-4.3 (receive_step.cpp): the receivers take w.in.
-void receive_step(const PassContext& pc, const PassDirection& pd, const Scratch& w,
-                  ChunkResult& res);
+void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res);
 
 }  // namespace transport_detail
 

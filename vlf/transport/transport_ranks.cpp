@@ -81,7 +81,6 @@ void pack(Packer& p, const SpecularSource& s) {
     p.put(s.targets);
     p.put(s.target_direction);
     p.put(s.target_power);
-    p.put_array(s.pixel_weight);
 }
 
 void unpack(Unpacker& u, SpecularSource& s) {
@@ -97,7 +96,23 @@ void unpack(Unpacker& u, SpecularSource& s) {
     u.get(s.targets);
     u.get(s.target_direction);
     u.get(s.target_power);
-    u.get_array(s.pixel_weight);
+}
+
+// A list of sources, and its reader (appending).
+template <class S>
+void pack_all(Packer& p, const std::vector<S>& v) {
+    p.put(uint64_t(v.size()));
+    for (const S& s : v) pack(p, s);
+}
+template <class S>
+void unpack_all(Unpacker& u, std::vector<S>& v) {
+    uint64_t n = 0;
+    u.get(n);
+    for (uint64_t k = 0; k < n; ++k) {
+        S s;
+        unpack(u, s);
+        v.push_back(std::move(s));
+    }
 }
 
 }  // namespace
@@ -109,7 +124,7 @@ int Transport::first_direction(int rank) const {
 }
 
 void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& compute,
-                           std::vector<SpecularSource>& sources) {
+                           PassSources& sources) {
     std::vector<ChunkResult>& chunks = m_work->chunks;
     const int K = m_ranks->size(), C = m_params.chunks;
     if (K == 1) {
@@ -147,24 +162,31 @@ void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& comput
     };
     if (r > 0)
         transfer([&](void* p, uint64_t n, int peer) { m_ranks->receive(p, n, peer); }, r - 1);
-    std::vector<SpecularSource> mine;
+    PassSources mine;
     reduce_chunks(c1 - c0, mine);
     if (r < K - 1)
         transfer([&](void* p, uint64_t n, int peer) { m_ranks->send(p, n, peer); }, r + 1);
     transfer([&](void* p, uint64_t n, int root) { m_ranks->broadcast(p, n, root); }, K - 1);
     // The specular sources in rank order = chunk order.
     Packer packed;
-    packed.put(uint64_t(mine.size()));
-    for (const SpecularSource& s : mine) pack(packed, s);
-    mine.clear();
+    pack_all(packed, mine.faces);
+    packed.put(uint64_t(mine.surfaces.size()));
+    for (const SurfaceSources& s : mine.surfaces) {
+        packed.put_array(s.frames);
+        packed.put_array(s.targets);
+        packed.put_array(s.pixels);
+    }
+    mine = PassSources{};
     for (const std::string& part : m_ranks->all_gather(packed.bytes)) {
         Unpacker u{part};
+        unpack_all(u, sources.faces);
         uint64_t n = 0;
         u.get(n);
         for (uint64_t k = 0; k < n; ++k) {
-            SpecularSource s;
-            unpack(u, s);
-            sources.push_back(std::move(s));
+            SurfaceSources& theirs = sources.surfaces.emplace_back();
+            u.get_array(theirs.frames);
+            u.get_array(theirs.targets);
+            u.get_array(theirs.pixels);
         }
         VLF_CHECK(u.done());
     }

@@ -1,0 +1,73 @@
+#include "vlf/transport/smooth_surfaces.hpp"
+
+#include <algorithm>
+#include <map>
+#include <utility>
+
+#include "vlf/field/psf.hpp"
+
+namespace vlf {
+
+SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs,
+                                    const Coverage& coverage) {
+    SmoothSurfaces s;
+    s.of_face.assign(scene.faces.size(), -1);
+    std::map<std::pair<int, bool>, int> index;  // (object, inner) -> surface
+    for (const Face& f : scene.faces) {
+        if (f.vertex_normals.empty() || !scene.material_of(f).is_specular()) continue;
+        const auto [at, added] = index.try_emplace({f.object, f.inner}, s.size());
+        if (added) s.faces.emplace_back();
+        s.of_face[size_t(f.id)] = at->second;
+        s.faces[size_t(at->second)].push_back(f.id);
+    }
+    s.directions = dirs.size();
+    s.rays.assign(size_t(s.size()) * size_t(s.directions) * 2, 0);
+    for (int k = 0; k < s.size(); ++k)
+        for (int d = 0; d < s.directions; ++d) {
+            const Vec3 omega = dirs.direction(d);
+            for (int f : s.faces[size_t(k)]) {
+                const double c = glm::dot(scene.faces[size_t(f)].normal, omega);
+                if (c == 0.0) continue;
+                s.rays[(size_t(k) * size_t(s.directions) + size_t(d)) * 2 + (c > 0 ? 0 : 1)] +=
+                    coverage(d, f);
+            }
+        }
+    return s;
+}
+
+void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, int surface,
+                  const Mat3& rotation, const Vec3& omega, int N, int m, SurfaceRays& out) {
+    out.rays.clear();
+    FaceRaster fr;
+    const Mat3 rt = glm::transpose(rotation);
+    int imin = N, imax = -1, jmin = N, jmax = -1;
+    for (int f : surfaces.faces[size_t(surface)]) {
+        const Face& face = scene.faces[size_t(f)];
+        if (glm::dot(face.normal, omega) <= 0.0) continue;
+        rasterise_face(face, rotation, N, m, fr);
+        const Vec3 nr = rotation * face.normal;
+        uint32_t k = 0;
+        for (const FaceFragment& ff : fr.fragments)
+            fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
+                const int i = ff.s * m + u, j = ff.t * m + v;
+                const double x = (2.0 * i + 1.0) / N - 1.0, y = (2.0 * j + 1.0) / N - 1.0;
+                const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
+                out.rays.push_back({f, k++, int16_t(i), int16_t(j), rt * Vec3(x, y, z)});
+                imin = std::min(imin, i), imax = std::max(imax, i);
+                jmin = std::min(jmin, j), jmax = std::max(jmax, j);
+            });
+    }
+    out.i0 = imin, out.j0 = jmin;
+    out.width = std::max(0, imax - imin + 1), out.height = std::max(0, jmax - jmin + 1);
+    out.head.assign(size_t(out.width) * size_t(out.height), -1);
+    out.next.assign(out.rays.size(), -1);
+    // Reverse order, so each pixel's list runs in ray order.
+    for (size_t r = out.rays.size(); r-- > 0;) {
+        const size_t at =
+            size_t(out.rays[r].j - out.j0) * size_t(out.width) + size_t(out.rays[r].i - out.i0);
+        out.next[r] = out.head[at];
+        out.head[at] = int32_t(r);
+    }
+}
+
+}  // namespace vlf

@@ -1,0 +1,394 @@
+#include "vlf/transport/surface_specular.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include "vlf/core/parallel.hpp"
+#include "vlf/field/psf.hpp"
+#include "vlf/scene/specular_turn.hpp"
+
+namespace vlf {
+
+namespace {
+
+// A surface's point is on the sheet a source pixel saw when their depths along the source
+// direction agree within this many pixel widths (a ball's near and far sides differ by its
+// chord, more than this except within a pixel or two of the silhouette).
+constexpr double kSheetPixels = 4.0;
+
+std::array<float, 9> to_floats(const Mat3& m) {
+    std::array<float, 9> r{};
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) r[size_t(row * 3 + col)] = float(m[col][row]);
+    return r;
+}
+
+// r * x and r^T * x for a row-major float rotation.
+Vec3 rotate(const std::array<float, 9>& r, const Vec3& x) {
+    return {r[0] * x.x + r[1] * x.y + r[2] * x.z, r[3] * x.x + r[4] * x.y + r[5] * x.z,
+            r[6] * x.x + r[7] * x.y + r[8] * x.z};
+}
+Vec3 rotate_back(const std::array<float, 9>& r, const Vec3& x) {
+    return {r[0] * x.x + r[3] * x.y + r[6] * x.z, r[1] * x.x + r[4] * x.y + r[7] * x.z,
+            r[2] * x.x + r[5] * x.y + r[8] * x.z};
+}
+
+struct Entry {
+    int direction, surface, sense;
+    uint32_t pixel;  // in the layer's window
+    double part;
+    Rgb power;
+};
+
+// A layer's window: per pixel, the ray there (index into the layer's rays) or -1.
+struct Window {
+    int i0 = 0, j0 = 0, width = 0, height = 0;
+    std::vector<int32_t> ray;
+    bool covers(int i, int j) const {
+        const int a = i - i0, b = j - j0;
+        return a >= 0 && b >= 0 && a < width && b < height &&
+               ray[size_t(b) * size_t(width) + size_t(a)] >= 0;
+    }
+};
+
+// One layer of a surface's rays: at most one ray per pixel (a torus seen edge-on has two
+// sheets facing the same way; each makes its own targets).
+void make_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
+                int surface, double beam, const Vec3& incoming,
+                const std::vector<const SurfaceRay*>& rays, Rgb& lost, SurfaceSources& out) {
+    const int N = out.frames.back().resolution;
+    const uint32_t frame = uint32_t(out.frames.size() - 1);
+    Window w;
+    int imin = N, imax = -1, jmin = N, jmax = -1;
+    for (const SurfaceRay* r : rays) {
+        imin = std::min(imin, r->i), imax = std::max(imax, r->i);
+        jmin = std::min(jmin, r->j), jmax = std::max(jmax, r->j);
+    }
+    w.i0 = imin, w.j0 = jmin, w.width = imax - imin + 1, w.height = jmax - jmin + 1;
+    w.ray.assign(size_t(w.width) * size_t(w.height), -1);
+    std::vector<Entry> entries;
+    // Power p of ray `at` leaves `onto`'s front along `out`, its part `frac` of what the ray
+    // received: to the three enclosing directions the surface has rays in.
+    auto branch = [&](int onto, const Vec3& dir, const Rgb& p, double frac, uint32_t at) {
+        const EnclosingTriangle tri = dirs.enclosing(dir);
+        double sum = 0.0;
+        for (int i = 0; i < 3; ++i)
+            if (tri.weight[i] > 0.0 && surfaces.carried(onto, tri.index[i], tri.sense[i]) > 0)
+                sum += tri.weight[i];
+        if (sum <= 0.0) {
+            lost += p;  // no PSF can carry it
+            return;
+        }
+        for (int i = 0; i < 3; ++i) {
+            if (!(tri.weight[i] > 0.0) || surfaces.carried(onto, tri.index[i], tri.sense[i]) == 0)
+                continue;
+            const double wt = tri.weight[i] / sum;
+            entries.push_back({tri.index[i], onto, tri.sense[i], at, frac * wt, p * wt});
+        }
+    };
+    for (uint32_t k = 0; k < rays.size(); ++k) {
+        const SurfaceRay& r = *rays[k];
+        w.ray[size_t(r.j - w.j0) * size_t(w.width) + size_t(r.i - w.i0)] = int32_t(k);
+        if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
+        const Face& face = scene.faces[size_t(r.face)];
+        const Material& mat = scene.material_of(face);
+        const SpecularTurn t = specular_turn(scene, face, r.point, incoming);
+        if (!mat.dielectric) {
+            branch(surface, t.reflected, r.power * mat.specular, 1.0, k);
+            continue;
+        }
+        if (t.refracts)
+            branch(surfaces.of_face[size_t(face.twin)], t.refracted, r.power * (1.0 - t.R),
+                   1.0 - t.R, k);
+        branch(surface, t.reflected, r.power * t.R, t.R, k);
+    }
+    std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+        return std::tie(a.direction, a.surface, a.sense, a.pixel) <
+               std::tie(b.direction, b.surface, b.sense, b.pixel);
+    });
+    for (size_t e = 0; e < entries.size();) {
+        const Entry& first = entries[e];
+        SurfaceTarget t{frame,
+                        first.surface,
+                        first.direction,
+                        first.sense,
+                        Rgb(0.0),
+                        uint32_t(out.pixels.size()),
+                        0};
+        for (; e < entries.size() && entries[e].direction == first.direction &&
+               entries[e].surface == first.surface && entries[e].sense == first.sense;
+             ++e) {
+            const SurfaceRay& r = *rays[entries[e].pixel];
+            t.power += entries[e].power;
+            const RgbF value = RgbF(r.power / beam * entries[e].part);
+            if (out.pixels.size() > t.begin && out.pixels.back().i == r.i &&
+                out.pixels.back().j == r.j) {
+                out.pixels.back().value += value;  // the same line twice (near the equator)
+                continue;
+            }
+            uint32_t around = 0;
+            for (int b = -2; b <= 2; ++b)
+                for (int a = -2; a <= 2; ++a)
+                    if (w.covers(r.i + a, r.j + b)) around |= 1u << ((b + 2) * 5 + (a + 2));
+            out.pixels.push_back({r.i, r.j, r.face, float(r.depth), value, around});
+        }
+        t.end = uint32_t(out.pixels.size());
+        if (t.power.x > 0 || t.power.y > 0 || t.power.z > 0)
+            out.targets.push_back(t);
+        else
+            out.pixels.resize(t.begin);
+    }
+}
+
+}  // namespace
+
+SurfaceFrame surface_frame(const Mat3& rotation, int N) {
+    return {to_floats(rotation), N};
+}
+
+void make_surface_sources(const Scene& scene, const DirectionSet& dirs,
+                          const SmoothSurfaces& surfaces, int surface, double beam,
+                          const Vec3& incoming, const std::vector<SurfaceRay>& rays, Rgb& lost,
+                          SurfaceSources& out) {
+    if (rays.empty()) return;
+    const int N = out.frames.back().resolution;
+    // Layers: each ray goes to the first layer whose pixel it finds free.
+    int imin = N, imax = -1, jmin = N, jmax = -1;
+    for (const SurfaceRay& r : rays) {
+        imin = std::min(imin, r.i), imax = std::max(imax, r.i);
+        jmin = std::min(jmin, r.j), jmax = std::max(jmax, r.j);
+    }
+    const size_t w = size_t(imax - imin + 1), n = w * size_t(jmax - jmin + 1);
+    std::vector<uint8_t> layers_at(n, 0);  // layers already holding each pixel
+    std::vector<std::vector<const SurfaceRay*>> layers;
+    for (const SurfaceRay& r : rays) {
+        uint8_t& k = layers_at[size_t(r.j - jmin) * w + size_t(r.i - imin)];
+        if (k == layers.size()) layers.emplace_back();
+        layers[k++].push_back(&r);
+    }
+    for (const auto& layer : layers)
+        make_layer(scene, dirs, surfaces, surface, beam, incoming, layer, lost, out);
+}
+
+int64_t SurfaceRayCache::bytes() const {
+    int64_t b = int64_t(rays.size() * sizeof(SurfaceRays) + built.size());
+    for (const SurfaceRays& r : rays)
+        b += int64_t(r.rays.capacity() * sizeof(SurfaceRays::Ray) +
+                     (r.head.capacity() + r.next.capacity()) * sizeof(int32_t));
+    return b;
+}
+
+namespace {
+
+// Whether the surface covers source pixel (i, j), known from a sending pixel p within one
+// pixel of it (its 5 x 5 neighbourhood holds (i, j)'s 3 x 3).
+bool covered_near(const SurfacePixel& p, int i, int j) {
+    return (p.around >> ((j - p.j + 2) * 5 + (i - p.i + 2))) & 1u;
+}
+
+// What a target ray landing on source pixel (i, j) at depth z gathers: a sending pixel's
+// value when the ray is on its sheet; where the ray falls just outside the surface's pixels,
+// the mean over the covered 8-neighbours (sending ones on the same sheet bring their value,
+// the others nothing).
+Rgb sample(const SurfacePixel* px, uint32_t n, int i, int j, double z, double tol) {
+    const SurfacePixel* near = nullptr;
+    for (uint32_t e = 0; e < n; ++e) {
+        if (px[e].i == i && px[e].j == j)
+            return std::abs(double(px[e].depth) - z) <= tol ? Rgb(px[e].value) : Rgb(0.0);
+        if (std::abs(px[e].i - i) <= 1 && std::abs(px[e].j - j) <= 1) near = &px[e];
+    }
+    if (near == nullptr || covered_near(*near, i, j)) return Rgb(0.0);
+    int count = 0;
+    for (int b = j - 1; b <= j + 1; ++b)
+        for (int a = i - 1; a <= i + 1; ++a)
+            count += (a != i || b != j) && covered_near(*near, a, b);
+    Rgb sum(0.0);
+    for (uint32_t e = 0; e < n; ++e)
+        if (std::abs(px[e].i - i) <= 1 && std::abs(px[e].j - j) <= 1 &&
+            std::abs(double(px[e].depth) - z) <= tol)
+            sum += Rgb(px[e].value);
+    return count > 0 ? sum / double(count) : Rgb(0.0);
+}
+
+// The scene-frame point of source pixel (i, j)'s corner (ci, cj in 0..1) on face f's plane.
+Vec3 corner_point(const SurfaceFrame& t, const Face& f, int i, int j, double ci, double cj) {
+    const Vec3 n = rotate(t.rotation, f.normal);
+    const double x = 2.0 * (i + ci) / t.resolution - 1.0, y = 2.0 * (j + cj) / t.resolution - 1.0;
+    const double z = (f.plane_offset - n.x * x - n.y * y) / n.z;
+    return rotate_back(t.rotation, Vec3(x, y, z));
+}
+
+// The ray of `rays` nearest to scene point x: rings of pixels around x's pixel on the target
+// grid, out to one ring past the first that holds a ray, else all of them.
+size_t nearest_ray(const SurfaceRays& rays, const Mat3& rot, int N, const Vec3& x) {
+    const Vec3 q = rot * x;
+    const int ci = int(std::floor((q.x + 1.0) * 0.5 * N)) - rays.i0;
+    const int cj = int(std::floor((q.y + 1.0) * 0.5 * N)) - rays.j0;
+    size_t best = 0;
+    double dist = std::numeric_limits<double>::infinity();
+    auto visit = [&](int a, int b) {
+        if (a < 0 || b < 0 || a >= rays.width || b >= rays.height) return;
+        for (int32_t r = rays.head[size_t(b) * size_t(rays.width) + size_t(a)]; r >= 0;
+             r = rays.next[size_t(r)]) {
+            const Vec3 e = rays.rays[size_t(r)].point - x;
+            const double d2 = glm::dot(e, e);
+            if (d2 < dist) dist = d2, best = size_t(r);
+        }
+    };
+    const int reach = std::max(rays.width, rays.height) + std::max(std::abs(ci), std::abs(cj));
+    int stop = reach;
+    for (int ring = 0; ring <= stop; ++ring) {
+        for (int a = ci - ring; a <= ci + ring; ++a) {
+            visit(a, cj - ring);
+            if (ring > 0) visit(a, cj + ring);
+        }
+        for (int b = cj - ring + 1; b <= cj + ring - 1; ++b) {
+            visit(ci - ring, b);
+            visit(ci + ring, b);
+        }
+        if (dist < std::numeric_limits<double>::infinity() && stop == reach) stop = ring + 1;
+    }
+    return best;
+}
+
+// Deposits target t into acc (per ray of `rays`, radiance units) by backward mapping of the
+// rays whose centres lie in the sending pixels' footprints.
+void gather_one(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget& t,
+                const SurfacePixel* px, const Mat3& rot, int N, double beam,
+                const SurfaceRays& rays, std::vector<Rgb>& acc,
+                std::vector<std::pair<int32_t, Rgb>>& picked) {
+    const uint32_t n = t.end - t.begin;
+    double lo_i = 1e300, hi_i = -1e300, lo_j = 1e300, hi_j = -1e300;
+    bool rim = false;  // a sending pixel beside one the surface does not cover
+    for (uint32_t e = 0; e < n; ++e) {
+        const SurfacePixel& p = px[e];
+        rim |= (p.around & 0x739c0u) != 0x739c0u;  // its 3 x 3 (bits 6-8, 11-13, 16-18)
+        const Face& f = scene.faces[size_t(p.face)];
+        const bool steep = std::abs(rotate(src.rotation, f.normal).z) < 1e-3;
+        for (int c = 0; c < 4; ++c) {
+            const Vec3 x = steep ? corner_point(src, f, p.i, p.j, 0.5, 0.5)
+                                 : corner_point(src, f, p.i, p.j, c & 1, c >> 1);
+            const Vec3 q = rot * x;
+            const double u = (q.x + 1.0) * 0.5 * N, v = (q.y + 1.0) * 0.5 * N;
+            lo_i = std::min(lo_i, u), hi_i = std::max(hi_i, u);
+            lo_j = std::min(lo_j, v), hi_j = std::max(hi_j, v);
+        }
+    }
+    // Rays whose centres lie in the footprints' box; a pixel wider where the neighbour rule
+    // (sample) can reach a rim pixel from outside the surface.
+    const int margin = rim ? 1 : 0;
+    const int i0 = std::max(rays.i0, int(std::ceil(lo_i - 0.5)) - margin);
+    const int i1 = std::min(rays.i0 + rays.width - 1, int(std::floor(hi_i - 0.5)) + margin);
+    const int j0 = std::max(rays.j0, int(std::ceil(lo_j - 0.5)) - margin);
+    const int j1 = std::min(rays.j0 + rays.height - 1, int(std::floor(hi_j - 0.5)) + margin);
+    const double tol = kSheetPixels * 2.0 / src.resolution;
+    picked.clear();
+    Rgb total(0.0);
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i)
+            for (int32_t r =
+                     rays.head[size_t(j - rays.j0) * size_t(rays.width) + size_t(i - rays.i0)];
+                 r >= 0; r = rays.next[size_t(r)]) {
+                const Vec3 q = rotate(src.rotation, rays.rays[size_t(r)].point);
+                const int si = int(std::floor((q.x + 1.0) * 0.5 * src.resolution));
+                const int sj = int(std::floor((q.y + 1.0) * 0.5 * src.resolution));
+                const Rgb g = sample(px, n, si, sj, q.z, tol);
+                if (g.x <= 0 && g.y <= 0 && g.z <= 0) continue;
+                picked.push_back({r, g});
+                total += g;
+            }
+    for (int c = 0; c < 3; ++c) {
+        if (t.power[c] <= 0.0) continue;
+        if (total[c] > 0.0) {
+            const double scale = t.power[c] / (total[c] * beam);
+            for (const auto& [r, g] : picked) acc[size_t(r)][c] += g[c] * scale;
+            continue;
+        }
+        // No target ray's centre lies in the sending pixels' footprints on their sheet (the
+        // footprints are smaller than the target's rays there): each pixel's share goes to
+        // the target ray nearest its point. Energy stays exact.
+        double sum = 0.0;
+        for (uint32_t e = 0; e < n; ++e) sum += double(px[e].value[c]);
+        for (uint32_t e = 0; e < n; ++e) {
+            const double share = sum > 0.0 ? double(px[e].value[c]) / sum : 1.0 / double(n);
+            if (share <= 0.0) continue;
+            const Vec3 x =
+                rotate_back(src.rotation, Vec3(2.0 * (px[e].i + 0.5) / src.resolution - 1.0,
+                                               2.0 * (px[e].j + 0.5) / src.resolution - 1.0,
+                                               double(px[e].depth)));
+            acc[nearest_ray(rays, rot, N, x)][c] += t.power[c] * share / beam;
+        }
+    }
+}
+
+struct Ref {
+    uint32_t chunk, target;
+    int surface, sense;
+};
+
+}  // namespace
+
+std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
+                                        const std::vector<Mat3>& rotations, int N, int m,
+                                        const SmoothSurfaces& surfaces,
+                                        const std::vector<SurfaceSources>& sources,
+                                        SurfaceRayCache& cache, RadianceMaps& maps) {
+    const size_t slots = size_t(surfaces.size()) * size_t(dirs.size()) * 2;
+    if (cache.rays.size() != slots) {
+        cache.rays.assign(slots, SurfaceRays{});
+        cache.built.assign(slots, 0);
+    }
+    std::vector<std::vector<Ref>> by_direction(dirs.size());
+    for (uint32_t c = 0; c < sources.size(); ++c)
+        for (uint32_t k = 0; k < sources[c].targets.size(); ++k) {
+            const SurfaceTarget& t = sources[c].targets[k];
+            if (maps.holds(t.direction))
+                by_direction[size_t(t.direction)].push_back({c, k, t.surface, t.sense});
+        }
+    for (auto& v : by_direction)
+        std::stable_sort(v.begin(), v.end(), [](const Ref& a, const Ref& b) {
+            return std::tie(a.surface, a.sense) < std::tie(b.surface, b.sense);
+        });
+    const double a = ray_area(N);
+    std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
+    parallel_for(maps.first, maps.last, [&](long d) {
+        const auto& refs = by_direction[size_t(d)];
+        if (refs.empty()) return;
+        const Mat3& rot = rotations[size_t(d)];
+        const double beam = a * dirs.solid_angle(int(d));
+        std::vector<Rgb> acc;
+        std::vector<std::pair<int32_t, Rgb>> picked;
+        for (size_t r = 0; r < refs.size();) {
+            const int surface = refs[r].surface, sense = refs[r].sense;
+            const size_t slot =
+                (size_t(surface) * size_t(dirs.size()) + size_t(d)) * 2 + (sense > 0 ? 0 : 1);
+            SurfaceRays& rays = cache.rays[slot];  // this task's direction only
+            if (!cache.built[slot]) {
+                surface_rays(scene, surfaces, surface, rot, dirs.direction(int(d)) * double(sense),
+                             N, m, rays);
+                cache.built[slot] = 1;
+            }
+            acc.assign(rays.rays.size(), Rgb(0.0));
+            for (; r < refs.size() && refs[r].surface == surface && refs[r].sense == sense; ++r) {
+                const SurfaceSources& from = sources[refs[r].chunk];
+                const SurfaceTarget& t = from.targets[refs[r].target];
+                gather_one(scene, from.frames[t.frame], t, from.pixels.data() + t.begin, rot, N,
+                           beam, rays, acc, picked);
+            }
+            for (size_t k = 0; k < rays.rays.size(); ++k) {
+                if (acc[k].x == 0.0 && acc[k].y == 0.0 && acc[k].z == 0.0) continue;
+                const SurfaceRays::Ray& ray = rays.rays[k];
+                const uint64_t at = maps.begin(int(d), ray.face) + ray.k;
+                const RgbF before = maps.unshot_next[at];
+                maps.unshot_next[at] += RgbF(acc[k]);
+                rounding[size_t(d - maps.first)] +=
+                    (acc[k] - (Rgb(maps.unshot_next[at]) - Rgb(before))) * beam;
+            }
+        }
+    });
+    return rounding;
+}
+
+}  // namespace vlf

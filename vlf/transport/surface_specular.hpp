@@ -1,0 +1,107 @@
+// surface_specular.hpp — the specular transfer of a smooth surface as one source per
+// direction (smooth_surfaces.hpp; docs/propagation.md §13 "Smooth surfaces turn ray by ray,
+// as one source").
+//
+// In a pass's direction d, every ray of a smooth surface that receives light turns about the
+// shading normal at its point (specular_turn.hpp): at a mirror rho_s of its power is
+// reflected, at glass R of it is reflected and 1 - R refracted into the twin surface. Each
+// turned direction's power goes to the three PSF directions enclosing it, by barycentric
+// weight (VLF §4.2), on the surface that carries it (the reflecting one, or the twin). Per
+// target (surface, direction, sense) the source keeps the power to deposit and the pixels
+// that send it: each with its radiance times its part, the depth of its point along d, its
+// face, and which pixels around it the surface covers.
+//
+// The gather (phase 2, one task per target direction) is the backward mapping of VLF §4.3:
+// every ray of the target surface whose centre lies in the sending pixels' footprints is
+// projected back into the source PSF; where it lands on a sending pixel on the same sheet of
+// the surface (the depths agree) it takes that pixel's value, and the pattern is scaled so
+// the target receives exactly its power, channel by channel (DESIGN §5). Targets are taken
+// in source order, so the maps do not depend on the thread or rank count.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "vlf/core/math.hpp"
+#include "vlf/field/direction_set.hpp"
+#include "vlf/field/radiance_maps.hpp"
+#include "vlf/scene/scene.hpp"
+#include "vlf/transport/smooth_surfaces.hpp"
+
+namespace vlf {
+
+// A sending pixel of a target.
+struct SurfacePixel {
+    int32_t i, j;     // on the source PSF's grid
+    int32_t face;     // the face its ray met
+    float depth;      // z of that point in the source PSF's frame
+    RgbF value;       // incoming radiance times the part of it that goes to the target
+    uint32_t around;  // bit (b + 2) * 5 + (a + 2): the surface covers pixel (i + a, j + b)
+};
+
+// The source PSF of a pass direction.
+struct SurfaceFrame {
+    std::array<float, 9> rotation;  // true or perturbed direction, row-major
+    int resolution;                 // of its ray grid (N, or N * supersample)
+};
+
+// One target of a smooth surface's source: the light of a pass direction (its frame) that
+// goes to `surface` along sense * omega_direction.
+struct SurfaceTarget {
+    uint32_t frame;  // in SurfaceSources::frames
+    int surface, direction, sense;
+    Rgb power;            // deposited there, normalised units
+    uint32_t begin, end;  // its pixels in SurfaceSources::pixels
+};
+
+// Smooth-surface sources (a chunk's, in direction order).
+struct SurfaceSources {
+    std::vector<SurfaceFrame> frames;
+    std::vector<SurfaceTarget> targets;
+    std::vector<SurfacePixel> pixels;
+    bool empty() const { return targets.empty(); }
+    void clear() {
+        frames.clear();
+        targets.clear();
+        pixels.clear();
+    }
+};
+
+// One ray of a smooth surface in a pass direction (receive_step.cpp collects them).
+struct SurfaceRay {
+    int face;
+    int i, j;      // pixel on the pass's N x N grid
+    Rgb power;     // arriving on the ray
+    Vec3 point;    // on the face, scene frame
+    double depth;  // z of the point in the PSF's frame
+};
+
+// Makes the targets of the rays `rays` (all of one surface, met by light travelling along
+// `incoming`, in the PSF of out.frames.back(), `beam` = a * Delta). Adds to `lost` the power
+// no PSF direction can carry. Appends to `out`.
+void make_surface_sources(const Scene& scene, const DirectionSet& dirs,
+                          const SmoothSurfaces& surfaces, int surface, double beam,
+                          const Vec3& incoming, const std::vector<SurfaceRay>& rays, Rgb& lost,
+                          SurfaceSources& out);
+SurfaceFrame surface_frame(const Mat3& rotation, int N);
+
+// The surfaces' rays per (surface, direction, sense), built the first time a gather needs
+// them and kept (the geometry does not change from cycle to cycle).
+struct SurfaceRayCache {
+    std::vector<SurfaceRays> rays;  // (surface * directions + d) * 2 + (sense > 0 ? 0 : 1)
+    std::vector<uint8_t> built;
+    int64_t bytes() const;
+};
+
+// Phase 2: gathers every target of `sources` (in order) into maps.unshot_next (only the
+// directions `maps` holds), adding to it. `rotations[d]` is the rotation of PSF d, `N`, `m` the
+// radiance-map grid. Returns, per held direction, the power single precision rounded away (as
+// gather_specular).
+std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
+                                        const std::vector<Mat3>& rotations, int N, int m,
+                                        const SmoothSurfaces& surfaces,
+                                        const std::vector<SurfaceSources>& sources,
+                                        SurfaceRayCache& cache, RadianceMaps& maps);
+
+}  // namespace vlf
