@@ -32,6 +32,14 @@ bool is_mirror(const Material& m) {
     return !m.dielectric && (m.specular.x > 0 || m.specular.y > 0 || m.specular.z > 0);
 }
 
+// A particle's mirror bounce at x on face f, about the shading normal of a smooth face; its
+// weight takes the shading-normal correction (glass_vertex.hpp).
+Vec3 mirror_turn(const Scene& scene, const Face& f, const Vec3& x, const Vec3& dir, Rgb& beta) {
+    const SpecularTurn t = specular_turn(scene, f, x, dir);
+    beta *= shading_normal_correction(-dir, t.reflected, t.reflect_normal, f.normal);
+    return t.reflected;
+}
+
 // A unit direction within angle acos(cos_max) of unit `axis`, uniform in solid angle
 // (pdf 1 / (2 pi (1 - cos_max)); cos_max = -1 is the whole sphere).
 Vec3 sample_cone(const Vec3& axis, double cos_max, double u1, double u2) {
@@ -108,10 +116,10 @@ LightTracer::LightTracer(const Scene& scene, const RayCaster& caster, int image_
         m_cdf.push_back(c);
     }
     int mirrors = 0;
-    bool glass = false;
+    bool glass = false;  // or a smooth mirror: no image source goes through either
     for (const Face& f : scene.faces) {
         const Material& m = scene.material_of(f);
-        glass = glass || m.dielectric;
+        glass = glass || m.dielectric || (is_mirror(m) && !f.vertex_normals.empty());
         if (is_mirror(m)) ++mirrors;
     }
     // A mirror chain longer than image_source_order >= 1 visits at least two faces.
@@ -184,8 +192,8 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
         power = light.intensity_towards(dir) * (2.0 * kPi * (1.0 - cos_max));
     }
     power /= select * double(particles);
-    Rgb beta(1.0);  // throughput since the light
-    bool through_glass = false, tagged = false;
+    Rgb beta(1.0);                               // throughput since the light
+    bool through_glass = false, tagged = false;  // through glass or a smooth mirror
     int mirrors = 0;
     for (int vertex = 0; vertex < kMaxPathVertices; ++vertex) {
         RayHit hit;
@@ -219,7 +227,8 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
             if (!(ps > 0.0)) break;
             beta *= m.specular;
             ++mirrors;
-            dir = glm::normalize(reflect(dir, n));
+            through_glass = through_glass || !f.vertex_normals.empty();
+            dir = mirror_turn(m_scene, f, x, dir, beta);
             o = x + kEps * n;
         } else {
             if (pd > 0.0) connect(view, x, n, power * beta * rho_d, out);
@@ -233,7 +242,7 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
                 dir = glm::normalize(r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + cz * n);
                 beta *= rho_d / p_diffuse;
             } else {
-                dir = glm::normalize(reflect(dir, n));
+                dir = mirror_turn(m_scene, f, x, dir, beta);
                 beta *= m.specular / (1.0 - p_diffuse);
             }
             o = x + kEps * n;

@@ -15,13 +15,14 @@
 // (rho_d > 0; on a face that is both diffuse and mirror, the diffuse part), and its
 // *specular chain* the mirror and glass vertices before it.
 //  * The eye tracer's next-event estimation counts the prefixes whose chain is no glass
-//    and at most image_source_order() mirrors, every leg clear (glass blocks a leg).
-//  * The light tracer counts every other prefix: a chain with glass in it, or with more
-//    mirrors. Such a particle is *tagged* at its first diffuse vertex; it splats there and
-//    at every later diffuse vertex (it goes on by the lobes of each surface, Lambertian
-//    by cosine sampling, with Russian roulette), because the eye tracer finds no path with
-//    that prefix however it continues: its NEE at the prefix's diffuse vertex sees
-//    nothing of it.
+//    and at most image_source_order() flat mirrors, every leg clear (glass blocks a leg).
+//  * The light tracer counts every other prefix: a chain with glass or a smooth mirror in
+//    it (a mirror with shading normals turns each particle about its own normal, by
+//    specular_turn, with the shading-normal correction), or with more mirrors. Such a particle is
+//    *tagged* at its first diffuse vertex; it splats there and at every later diffuse vertex (it
+//    goes on by the lobes of each surface, Lambertian by cosine sampling, with Russian roulette),
+//    because the eye tracer finds no path with that prefix however it continues: its NEE at the
+//    prefix's diffuse vertex sees nothing of it.
 //  * An untagged particle stops at its first diffuse vertex (the eye tracer has all that
 //    follows); at a face that is also a mirror it goes on by the mirror alone (weight
 //    rho_s), since its chain may still become one the eye tracer misses.

@@ -8,6 +8,7 @@
 #include "vlf/core/rotation.hpp"
 #include "vlf/render/glass_vertex.hpp"
 #include "vlf/render/light_tracer.hpp"
+#include "vlf/scene/specular_turn.hpp"
 
 namespace vlf {
 
@@ -106,8 +107,10 @@ PathTracer::PathTracer(const Scene& scene, const RayCaster& caster)
         }
     }
     m_scale2 = scene.normalisation.scale * scene.normalisation.scale;
+    // Image sources are planar mirrors' (a smooth one turns each ray about its own shading
+    // normal: the light tracer has the delta lights' paths through it).
     for (const Face& f : scene.faces)
-        if (is_mirror(scene.material_of(f))) m_mirrors.push_back(f.id);
+        if (is_mirror(scene.material_of(f)) && f.vertex_normals.empty()) m_mirrors.push_back(f.id);
     // Second-order image sources: the ordered pairs (a, b) where light can go from mirror
     // b to mirror a, b's front facing a's and a's facing b's. None for a convex mirror
     // (a tessellated sphere seen from outside); a concave one may give too many (see
@@ -326,8 +329,8 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
             beta *= rho_d / p_diffuse;  // f cos / pdf = rho_d, over the lobe choice
             bsdf_pdf = p_diffuse * glm::dot(dir, n) / kPi;
             if (!(bsdf_pdf > 0.0)) break;
-        } else {  // ideal mirror
-            dir = dir - 2.0 * glm::dot(dir, n) * n;
+        } else {  // ideal mirror, about the shading normal of a smooth face
+            dir = specular_turn(m_scene, f, x, dir).reflected;
             beta *= m.specular / (1.0 - p_diffuse);
             bsdf_pdf = 0.0;
         }

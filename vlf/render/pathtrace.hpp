@@ -23,12 +23,15 @@
 //    adds rho_d/pi x its irradiance E at x (delta_irradiance), deterministically but for
 //    the sun's disc — directly (a shadow ray; E = I(w) cos_x / r^2 for a point or spot,
 //    E cos_x for a directional light) and through up to image_source_order() ideal planar
-//    mirror faces by image sources (the light reflected in the mirrors' planes, the
-//    unfolded path checked face by face; rho_s of each mirror on the way). Without those
-//    a delta light seen in a mirror would light nothing. Glass on any leg blocks the image
-//    path: that light went through the glass (or was reflected by it) instead;
+//    mirror faces (flat ones: a smooth mirror turns each ray about its own shading normal,
+//    as eye paths do at it by specular_turn, so its light is the light tracer's) by image sources
+//    (the light reflected in the mirrors' planes, the unfolded path checked face by face; rho_s of
+//    each mirror on the way). Without those a delta light seen in a mirror would light nothing.
+//    Glass on any leg blocks the image path: that light went through the glass (or was reflected by
+//    it) instead;
 //  * everything else a delta light sends — paths light -> (mirror | glass)+ -> diffuse ->
-//    ... -> eye whose specular chain holds glass or more than image_source_order() mirrors
+//    ... -> eye whose specular chain holds glass, a smooth mirror or more than
+//    image_source_order() mirrors
 //    — the eye cannot sample (a delta light meets no ray). The light tracer
 //    (light_tracer.hpp) follows particles from the lights and splats exactly those into
 //    the image (render()); the split between the two is stated there. The one family

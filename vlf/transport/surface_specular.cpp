@@ -108,6 +108,8 @@ void make_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
         return std::tie(a.direction, a.surface, a.sense, a.pixel) <
                std::tie(b.direction, b.surface, b.sense, b.pixel);
     });
+    constexpr uint32_t kUnknown = ~0u;  // (a 5 x 5 mask has 25 bits)
+    std::vector<uint32_t> arounds(rays.size(), kUnknown);
     for (size_t e = 0; e < entries.size();) {
         const Entry& first = entries[e];
         SurfaceTarget t{frame,
@@ -128,10 +130,13 @@ void make_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
                 out.pixels.back().value += value;  // the same line twice (near the equator)
                 continue;
             }
-            uint32_t around = 0;
-            for (int b = -2; b <= 2; ++b)
-                for (int a = -2; a <= 2; ++a)
-                    if (w.covers(r.i + a, r.j + b)) around |= 1u << ((b + 2) * 5 + (a + 2));
+            uint32_t& around = arounds[entries[e].pixel];  // once per ray, for its targets
+            if (around == kUnknown) {
+                around = 0;
+                for (int b = -2; b <= 2; ++b)
+                    for (int a = -2; a <= 2; ++a)
+                        if (w.covers(r.i + a, r.j + b)) around |= 1u << ((b + 2) * 5 + (a + 2));
+            }
             out.pixels.push_back({r.i, r.j, r.face, float(r.depth), value, around});
         }
         t.end = uint32_t(out.pixels.size());
