@@ -7,7 +7,7 @@ JOBS        ?= $(shell nproc)
 SCENE       ?= scenes/cornell-mirrors.json
 DEMO_ARGS   ?= --quality preview
 OUT         ?= out
-ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli|Texture|LightTransport|GlassTransport|RenderGlass|Checkpoint
+ASAN_TESTS  ?= Scene|Primitive|Bake|Direction|Psf|Exchange|cli|Texture|LightTransport|GlassTransport|RenderGlass|Checkpoint|SmoothField
 # The ledger over every shipped scene matches 'Scene' but reads no input the others do not: it
 # is a physics test (Release), and took 8 of the ASan run's minutes.
 ASAN_EXCLUDE ?= NumericalLossUnderAThousandthOnEveryScene
