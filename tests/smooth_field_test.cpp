@@ -174,31 +174,36 @@ TEST(SmoothField, PathTracerMirrorReflectsAboutItsShadingNormal) {
     EXPECT_NEAR(got, want, 0.025);
 }
 
-// A closed room under a lamp with a smooth glass ball (absorbing), a smooth mirror ball
-// and a smooth glass torus (a surface with two sheets facing the same way along many
-// directions: each sheet is its own layer, surface_specular.cpp).
-const char* kSmoothRoom = R"({
-      "materials": {"white": {"diffuse": [0.5, 0.5, 0.5]},
-                    "lamp": {"emission": [10, 10, 10]},
-                    "glass": {"dielectric": {"ior": 1.5, "absorption": [0.3, 0.1, 0.0]}},
-                    "mirror": {"specular": [0.9, 0.9, 0.9]}},
+// A closed 2 m room under a 0.4 m lamp, with `materials` besides "white" and "lamp" and
+// `objects` besides its walls and lamp (JSON fragments).
+Scene closed_room(const std::string& materials, const std::string& objects) {
+    return scene_from_json(R"({
+      "materials": {"white": {"diffuse": [0.5, 0.5, 0.5]}, "lamp": {"emission": [10, 10, 10]},
+                    )" + materials +
+                           R"(},
       "settings": {"texel_size": 0.1},
       "objects": [
         {"type": "box", "material": "white", "min": [-1, 0, -1], "max": [1, 2, 1],
          "flip": true},
         {"type": "polygon", "material": "lamp",
          "vertices": [[-0.2, 1.99, -0.2], [0.2, 1.99, -0.2], [0.2, 1.99, 0.2], [-0.2, 1.99, 0.2]]},
-        {"type": "sphere", "material": "glass", "center": [-0.4, 0.5, 0], "radius": 0.3,
-         "subdivisions": 2},
-        {"type": "sphere", "material": "mirror", "center": [0.4, 0.5, 0.2], "radius": 0.3,
-         "subdivisions": 2},
-        {"type": "mesh", "file": "MESH", "material": "glass", "scale": 0.3,
-         "rotate_x_deg": 60, "translate": [0, 1.3, 0]}]})";
+        )" + objects + "]}");
+}
 
+// The room with a smooth glass ball (absorbing), a smooth mirror ball and a smooth glass torus
+// (a surface with two sheets facing the same way along many directions: each sheet is its
+// own layer, surface_specular.cpp).
 Scene smooth_room() {
-    std::string text = kSmoothRoom;
-    text.replace(text.find("MESH"), 4, test::source_path("scenes/meshes/torus.obj"));
-    return scene_from_json(text);
+    return closed_room(
+        R"("glass": {"dielectric": {"ior": 1.5, "absorption": [0.3, 0.1, 0.0]}},
+           "mirror": {"specular": [0.9, 0.9, 0.9]})",
+        R"({"type": "sphere", "material": "glass", "center": [-0.4, 0.5, 0], "radius": 0.3,
+            "subdivisions": 2},
+           {"type": "sphere", "material": "mirror", "center": [0.4, 0.5, 0.2], "radius": 0.3,
+            "subdivisions": 2},
+           {"type": "mesh", "file": ")" +
+            test::source_path("scenes/meshes/torus.obj") +
+            R"(", "material": "glass", "scale": 0.3, "rotate_x_deg": 60, "translate": [0, 1.3, 0]})");
 }
 
 // Every watt is booked in every cycle, with perturbation, super-sampling and the filter.
@@ -217,18 +222,10 @@ TEST(SmoothField, LedgerClosesWithSmoothGlassAndMirror) {
 // 5,120 facets, most smaller than a ray at N = 32, loses nothing for want of a ray
 // (lost.grazing_mirror; 9 % of the emission when facets carried their own light).
 TEST(SmoothField, FineBallLosesNothingForWantOfAFacetsRay) {
-    const Scene scene = scene_from_json(R"({
-      "materials": {"white": {"diffuse": [0.5, 0.5, 0.5]},
-                    "lamp": {"emission": [10, 10, 10]},
-                    "glass": {"dielectric": {"ior": 1.5}}},
-      "settings": {"texel_size": 0.1},
-      "objects": [
-        {"type": "box", "material": "white", "min": [-1, 0, -1], "max": [1, 2, 1],
-         "flip": true},
-        {"type": "polygon", "material": "lamp",
-         "vertices": [[-0.2, 1.99, -0.2], [0.2, 1.99, -0.2], [0.2, 1.99, 0.2], [-0.2, 1.99, 0.2]]},
-        {"type": "sphere", "material": "glass", "center": [0, 0.5, 0], "radius": 0.3,
-         "subdivisions": 4}]})");
+    const Scene scene =
+        closed_room(R"("glass": {"dielectric": {"ior": 1.5}})",
+                    R"({"type": "sphere", "material": "glass", "center": [0, 0.5, 0], "radius": 0.3,
+            "subdivisions": 4})");
     const auto t = run_transport(scene, params(129, 32, 8, 3));
     const LedgerEntry& e = t->ledger().back();
     EXPECT_LE(e.relative_error(), 1e-9) << format_ledger(e);

@@ -50,6 +50,11 @@ inline double ray_area(int resolution) {
     return 4.0 / (double(resolution) * resolution);
 }
 
+// Pixel-centre coordinate of ray i of an N x N grid over [-1,1]^2 (eq. (1)).
+inline double ray_coord(int i, int resolution) {
+    return (2.0 * i + 1.0) / resolution - 1.0;
+}
+
 struct Psf {
     int direction = -1;   // index into the direction set (or -1 for a free direction)
     Vec3 omega{0, 0, 1};  // the direction, scene frame
@@ -61,8 +66,8 @@ struct Psf {
     std::vector<int32_t> tile_of;  // n*n entries: index into tiles, or -1 when empty
 
     // Pixel-centre coordinates of ray (i, j) in the rotated frame (eq. (1)).
-    double ray_x(int i) const { return (2.0 * i + 1.0) / resolution - 1.0; }
-    double ray_y(int j) const { return (2.0 * j + 1.0) / resolution - 1.0; }
+    double ray_x(int i) const { return ray_coord(i, resolution); }
+    double ray_y(int j) const { return ray_coord(j, resolution); }
     // Area of one pixel, (2/N)^2: the beam cross-section a of DESIGN §5.
     double ray_area() const { return vlf::ray_area(resolution); }
 };
@@ -72,6 +77,26 @@ inline double plane_depth(const Face& f, const Mat3& rotation, double x, double 
     const Vec3 n = rotation * f.normal;
     return (f.plane_offset - n.x * x - n.y * y) / n.z;
 }
+
+// A face's plane in one PSF, for many rays: where ray (i, j) of the N x N grid meets it,
+// as depth (rotated z) and as a scene-frame point.
+struct PlaneInPsf {
+    PlaneInPsf(const Face& f, const Mat3& rotation, int resolution)
+        : offset(f.plane_offset),
+          n(rotation * f.normal),
+          back(glm::transpose(rotation)),
+          N(resolution) {}
+    double depth(int i, int j) const {
+        return (offset - n.x * ray_coord(i, N) - n.y * ray_coord(j, N)) / n.z;
+    }
+    Vec3 point(int i, int j) const {
+        return back * Vec3(ray_coord(i, N), ray_coord(j, N), depth(i, j));
+    }
+    double offset;
+    Vec3 n;     // the normal, rotated
+    Mat3 back;  // rotated frame -> scene frame
+    int N;
+};
 
 // Rasterise every face of the scene for direction omega (unit). Faces seen edge-on
 // (|n.omega| < 1e-12) cover no ray.

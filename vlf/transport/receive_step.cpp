@@ -139,17 +139,14 @@ void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3&
 // (surface_specular.hpp makes the sources).
 void collect_surface_rays(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
                           const std::vector<Rgb>& in, std::vector<std::vector<SurfaceRay>>& out) {
-    const Face& face = pc.scene.faces[f];
-    const Mat3& rot = pc.rotations[pd.d];
-    const Mat3 rt = glm::transpose(rot);
-    const Vec3 nr = rot * face.normal;
-    std::vector<SurfaceRay>& rays = out[size_t(pc.surfaces.of_face[f]) * 2 + (nr.z > 0 ? 0 : 1)];
+    const PlaneInPsf plane(pc.scene.faces[f], pc.rotations[pd.d], pc.N);
+    std::vector<SurfaceRay>& rays =
+        out[size_t(pc.surfaces.of_face[f]) * 2 + (plane.n.z > 0 ? 0 : 1)];
     for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
             const int i = tile.s * pc.m + u, j = tile.t * pc.m + v;
-            const double x = (2.0 * i + 1.0) / pc.N - 1.0, y = (2.0 * j + 1.0) / pc.N - 1.0;
-            const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
-            rays.push_back({int(f), i, j, in[base + uint32_t(k)], rt * Vec3(x, y, z), z});
+            rays.push_back(
+                {int(f), i, j, in[base + uint32_t(k)], plane.point(i, j), plane.depth(i, j)});
         });
     });
 }
@@ -225,10 +222,7 @@ void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, 
                           std::fill_n(w.slot_face.begin() + base, fr.covered, g.faces[k]);
                       });
     const Mat3& rot = pc.rotations[pd.d];
-    auto depth = [&](const Face& f, double x, double y) {
-        const Vec3 n = rot * f.normal;
-        return (f.plane_offset - n.x * x - n.y * y) / n.z;
-    };
+    auto depth = [&](const Face& f, double x, double y) { return plane_depth(f, rot, x, y); };
     for (size_t k = 0; k < g.faces.size(); ++k) {
         const Face& face = scene.faces[g.faces[k]];
         const Material& mat = scene.material_of(face);
@@ -241,8 +235,8 @@ void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, 
                               const Rgb arriving = w.in[slot];
                               if (p < 0 || (arriving.x <= 0 && arriving.y <= 0 && arriving.z <= 0))
                                   return;
-                              const double x = (2.0 * (tile.s * pc.m + u) + 1.0) / pc.N - 1.0;
-                              const double y = (2.0 * (tile.t * pc.m + v) + 1.0) / pc.N - 1.0;
+                              const double x = ray_coord(tile.s * pc.m + u, pc.N);
+                              const double y = ray_coord(tile.t * pc.m + v, pc.N);
                               const Face& from = scene.faces[w.slot_face[uint32_t(p)]];
                               const double d = std::abs(depth(face, x, y) - depth(from, x, y));
                               const Rgb kept = arriving * glass_transmittance(scene, face, d);

@@ -116,7 +116,6 @@ void resample_specular(Transport& transport, const RayCaster& caster, int /*thre
     parallel_for(0, dirs.size(), [&](long dl) {
         const int d = static_cast<int>(dl);
         const Mat3& rot = rotations[d];
-        const Mat3 rt = glm::transpose(rot);  // rotated frame -> scene frame
         FaceRaster fr;
         for (int fid : maps.faces) {
             const uint64_t n = maps.count(d, fid);
@@ -126,15 +125,12 @@ void resample_specular(Transport& transport, const RayCaster& caster, int /*thre
             VLF_CHECK(fr.covered == n);
             // The face sends along +omega_d when its front faces +z of the PSF.
             const Vec3 travel = double(fr.facing) * dirs.direction(d);
-            const Vec3 nr = rot * face.normal;
+            const PlaneInPsf plane(face, rot, N);
             const uint64_t base = maps.begin(d, fid);
             uint64_t k = 0;  // face-local ray order: fragments in tile order, edge-table order
             for (const FaceFragment& ff : fr.fragments)
                 fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                    const double x = (2.0 * (ff.s * m + u) + 1.0) / N - 1.0;
-                    const double y = (2.0 * (ff.t * m + v) + 1.0) / N - 1.0;
-                    const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
-                    const Vec3 point = rt * Vec3(x, y, z);
+                    const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
                     const Rgb L =
                         specular_path_radiance(scene, caster, radiance, offset, fid, point, travel);
                     maps.total[base + k++] = RgbF(L);

@@ -39,20 +39,17 @@ void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, int surfac
                   const Mat3& rotation, const Vec3& omega, int N, int m, SurfaceRays& out) {
     out.rays.clear();
     FaceRaster fr;
-    const Mat3 rt = glm::transpose(rotation);
     int imin = N, imax = -1, jmin = N, jmax = -1;
     for (int f : surfaces.faces[size_t(surface)]) {
         const Face& face = scene.faces[size_t(f)];
         if (glm::dot(face.normal, omega) <= 0.0) continue;
         rasterise_face(face, rotation, N, m, fr);
-        const Vec3 nr = rotation * face.normal;
+        const PlaneInPsf plane(face, rotation, N);
         uint32_t k = 0;
         for (const FaceFragment& ff : fr.fragments)
             fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
                 const int i = ff.s * m + u, j = ff.t * m + v;
-                const double x = (2.0 * i + 1.0) / N - 1.0, y = (2.0 * j + 1.0) / N - 1.0;
-                const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
-                out.rays.push_back({f, k++, int16_t(i), int16_t(j), rt * Vec3(x, y, z)});
+                out.rays.push_back({f, k++, int16_t(i), int16_t(j), plane.point(i, j)});
                 imin = std::min(imin, i), imax = std::max(imax, i);
                 jmin = std::min(jmin, j), jmax = std::max(jmax, j);
             });

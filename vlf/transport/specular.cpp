@@ -128,14 +128,10 @@ std::vector<Rgb> gather_specular(const Scene& scene, const DirectionSet& dirs,
             VLF_CHECK(maps.count(static_cast<int>(d), fid) == fr.covered);
             // Points of the face's rays, in its face-local ray order.
             points.clear();
-            const Vec3 nr = rot * face.normal;
-            const Mat3 rt = glm::transpose(rot);
+            const PlaneInPsf plane(face, rot, N);
             for (const FaceFragment& ff : fr.fragments)
                 fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                    const double x = (2.0 * (ff.s * m + u) + 1.0) / N - 1.0;
-                    const double y = (2.0 * (ff.t * m + v) + 1.0) / N - 1.0;
-                    const double z = (face.plane_offset - nr.x * x - nr.y * y) / nr.z;
-                    points.push_back(rt * Vec3(x, y, z));
+                    points.push_back(plane.point(ff.s * m + u, ff.t * m + v));
                 });
             acc.assign(points.size(), Rgb(0.0));
             g.resize(points.size());
