@@ -274,17 +274,29 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         if (!mat.dielectric) res.absorbed += r.power * (Rgb(1.0) - mat.specular) - reflected;
         if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat, w.in, res);
     }
-    // The smooth surfaces' sources, surface by surface, each side (facing +z first).
+    // The smooth surfaces' sources, surface by surface, each side (facing +z first). Their
+    // plans are kept from cycle to cycle in the pass of the true directions.
     if (surfaces.empty()) return;
     if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
     SurfaceSources& out = res.sources.surfaces.back();
     out.frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
     for (int s = 0; s < surfaces.size(); ++s)
         for (int side = 0; side < 2; ++side) {
-            const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
-            make_surface_sources(pc.scene, pc.dirs, surfaces, s, pd.beam, incoming,
-                                 w.surface_rays[size_t(s) * 2 + side], res.lost.grazing_mirror,
-                                 out);
+            const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
+            const size_t slot = (size_t(pd.d) * size_t(surfaces.size()) + size_t(s)) * 2 + side;
+            const bool keep = pc.surface_plans != nullptr;
+            SurfacePlan& plan = keep ? (*pc.surface_plans)[slot] : w.surface_plan;
+            if (!keep) {
+                bool lit = false;
+                for (const SurfaceRay& r : rays)
+                    lit |= r.power.x > 0 || r.power.y > 0 || r.power.z > 0;
+                if (!lit) continue;  // (a kept plan's targets are sent lit or not)
+            }
+            if (!keep || !plan.built || plan.rays != rays.size()) {
+                const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
+                make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming, rays, plan);
+            }
+            apply_surface_plan(pc.scene, plan, rays, pd.beam, res.lost.grazing_mirror, out);
         }
 }
 

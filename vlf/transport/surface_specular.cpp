@@ -5,6 +5,7 @@
 #include <limits>
 #include <tuple>
 
+#include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/field/psf.hpp"
 #include "vlf/scene/specular_turn.hpp"
@@ -37,113 +38,103 @@ Vec3 rotate_back(const std::array<float, 9>& r, const Vec3& x) {
 
 struct Entry {
     int direction, surface, sense;
-    uint32_t pixel;  // in the layer's window
+    uint32_t ray;  // in the surface's rays
     double part;
-    Rgb power;
 };
 
-// A layer's window: per pixel, the ray there (index into the layer's rays) or -1.
+// A layer's window: per pixel, whether the layer has a ray there.
 struct Window {
     int i0 = 0, j0 = 0, width = 0, height = 0;
-    std::vector<int32_t> ray;
+    std::vector<uint8_t> ray;
     bool covers(int i, int j) const {
         const int a = i - i0, b = j - j0;
         return a >= 0 && b >= 0 && a < width && b < height &&
-               ray[size_t(b) * size_t(width) + size_t(a)] >= 0;
+               ray[size_t(b) * size_t(width) + size_t(a)] != 0;
     }
 };
 
-// One layer of a surface's rays: at most one ray per pixel (a torus seen edge-on has two
-// sheets facing the same way; each makes its own targets).
-void make_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
-                int surface, double beam, const Vec3& incoming,
-                const std::vector<const SurfaceRay*>& rays, Rgb& lost, SurfaceSources& out) {
-    const int N = out.frames.back().resolution;
-    const uint32_t frame = uint32_t(out.frames.size() - 1);
+// What of a ray's power a branch of its turn carries: rho_s at a mirror, the Fresnel part
+// (`part`, already in the entry) at glass.
+Rgb power_factor(const Scene& scene, int face) {
+    const Material& mat = scene.material_of(scene.faces[size_t(face)]);
+    return mat.dielectric ? Rgb(1.0) : mat.specular;
+}
+
+// One layer of a surface's rays (indices into `rays`): at most one ray per pixel (a torus
+// seen edge-on has two sheets facing the same way; each makes its own targets).
+void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
+                int surface, const Vec3& incoming, const std::vector<SurfaceRay>& rays,
+                const std::vector<uint32_t>& layer, SurfacePlan& plan) {
     Window w;
-    int imin = N, imax = -1, jmin = N, jmax = -1;
-    for (const SurfaceRay* r : rays) {
-        imin = std::min(imin, r->i), imax = std::max(imax, r->i);
-        jmin = std::min(jmin, r->j), jmax = std::max(jmax, r->j);
+    int imin = std::numeric_limits<int>::max(), imax = -1;
+    int jmin = std::numeric_limits<int>::max(), jmax = -1;
+    for (uint32_t k : layer) {
+        imin = std::min(imin, rays[k].i), imax = std::max(imax, rays[k].i);
+        jmin = std::min(jmin, rays[k].j), jmax = std::max(jmax, rays[k].j);
     }
     w.i0 = imin, w.j0 = jmin, w.width = imax - imin + 1, w.height = jmax - jmin + 1;
-    w.ray.assign(size_t(w.width) * size_t(w.height), -1);
+    w.ray.assign(size_t(w.width) * size_t(w.height), 0);
     std::vector<Entry> entries;
-    // Power p of ray `at` leaves `onto`'s front along `out`, its part `frac` of what the ray
-    // received: to the three enclosing directions the surface has rays in.
-    auto branch = [&](int onto, const Vec3& dir, const Rgb& p, double frac, uint32_t at) {
+    // Ray `at` leaves `onto`'s front along `out` with the part `frac` of what it received:
+    // to the three enclosing directions the surface has rays in.
+    auto branch = [&](int onto, const Vec3& dir, double frac, uint32_t at) {
         const EnclosingTriangle tri = dirs.enclosing(dir);
         double sum = 0.0;
         for (int i = 0; i < 3; ++i)
             if (tri.weight[i] > 0.0 && surfaces.carried(onto, tri.index[i], tri.sense[i]) > 0)
                 sum += tri.weight[i];
         if (sum <= 0.0) {
-            lost += p;  // no PSF can carry it
+            plan.lost.push_back({at, frac});  // no PSF can carry it
             return;
         }
         for (int i = 0; i < 3; ++i) {
             if (!(tri.weight[i] > 0.0) || surfaces.carried(onto, tri.index[i], tri.sense[i]) == 0)
                 continue;
-            const double wt = tri.weight[i] / sum;
-            entries.push_back({tri.index[i], onto, tri.sense[i], at, frac * wt, p * wt});
+            entries.push_back({tri.index[i], onto, tri.sense[i], at, frac * tri.weight[i] / sum});
         }
     };
-    for (uint32_t k = 0; k < rays.size(); ++k) {
-        const SurfaceRay& r = *rays[k];
-        w.ray[size_t(r.j - w.j0) * size_t(w.width) + size_t(r.i - w.i0)] = int32_t(k);
-        if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
+    for (uint32_t k : layer) {
+        const SurfaceRay& r = rays[k];
+        w.ray[size_t(r.j - w.j0) * size_t(w.width) + size_t(r.i - w.i0)] = 1;
         const Face& face = scene.faces[size_t(r.face)];
-        const Material& mat = scene.material_of(face);
         const SpecularTurn t = specular_turn(scene, face, r.point, incoming);
-        if (!mat.dielectric) {
-            branch(surface, t.reflected, r.power * mat.specular, 1.0, k);
+        if (!scene.material_of(face).dielectric) {
+            branch(surface, t.reflected, 1.0, k);
             continue;
         }
-        if (t.refracts)
-            branch(surfaces.of_face[size_t(face.twin)], t.refracted, r.power * (1.0 - t.R),
-                   1.0 - t.R, k);
-        branch(surface, t.reflected, r.power * t.R, t.R, k);
+        if (t.refracts) branch(surfaces.of_face[size_t(face.twin)], t.refracted, 1.0 - t.R, k);
+        branch(surface, t.reflected, t.R, k);
     }
     std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-        return std::tie(a.direction, a.surface, a.sense, a.pixel) <
-               std::tie(b.direction, b.surface, b.sense, b.pixel);
+        return std::tie(a.direction, a.surface, a.sense, a.ray) <
+               std::tie(b.direction, b.surface, b.sense, b.ray);
     });
+    std::vector<SurfacePlan::Pixel>& pixels = plan.pixels;
     constexpr uint32_t kUnknown = ~0u;  // (a 5 x 5 mask has 25 bits)
     std::vector<uint32_t> arounds(rays.size(), kUnknown);
     for (size_t e = 0; e < entries.size();) {
         const Entry& first = entries[e];
-        SurfaceTarget t{frame,
-                        first.surface,
-                        first.direction,
-                        first.sense,
-                        Rgb(0.0),
-                        uint32_t(out.pixels.size()),
-                        0};
+        SurfacePlan::Target t{first.surface, first.direction, first.sense, uint32_t(pixels.size()),
+                              0};
         for (; e < entries.size() && entries[e].direction == first.direction &&
                entries[e].surface == first.surface && entries[e].sense == first.sense;
              ++e) {
-            const SurfaceRay& r = *rays[entries[e].pixel];
-            t.power += entries[e].power;
-            const RgbF value = RgbF(r.power / beam * entries[e].part);
-            if (out.pixels.size() > t.begin && out.pixels.back().i == r.i &&
-                out.pixels.back().j == r.j) {
-                out.pixels.back().value += value;  // the same line twice (near the equator)
+            if (pixels.size() > t.begin && pixels.back().ray == entries[e].ray) {
+                pixels.back().part += entries[e].part;  // the same line twice (near the equator)
                 continue;
             }
-            uint32_t& around = arounds[entries[e].pixel];  // once per ray, for its targets
+            const SurfaceRay& r = rays[entries[e].ray];
+            uint32_t& around = arounds[entries[e].ray];  // once per ray, for its targets
             if (around == kUnknown) {
                 around = 0;
                 for (int b = -2; b <= 2; ++b)
                     for (int a = -2; a <= 2; ++a)
                         if (w.covers(r.i + a, r.j + b)) around |= 1u << ((b + 2) * 5 + (a + 2));
             }
-            out.pixels.push_back({r.i, r.j, r.face, float(r.depth), value, around});
+            pixels.push_back({entries[e].ray, around, entries[e].part});
         }
-        t.end = uint32_t(out.pixels.size());
-        if (t.power.x > 0 || t.power.y > 0 || t.power.z > 0)
-            out.targets.push_back(t);
-        else
-            out.pixels.resize(t.begin);
+        t.end = uint32_t(pixels.size());
+        plan.targets.push_back(t);
     }
 }
 
@@ -153,28 +144,57 @@ SurfaceFrame surface_frame(const Mat3& rotation, int N) {
     return {to_floats(rotation), N};
 }
 
-void make_surface_sources(const Scene& scene, const DirectionSet& dirs,
-                          const SmoothSurfaces& surfaces, int surface, double beam,
-                          const Vec3& incoming, const std::vector<SurfaceRay>& rays, Rgb& lost,
-                          SurfaceSources& out) {
+void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
+                       int surface, const Vec3& incoming, const std::vector<SurfaceRay>& rays,
+                       SurfacePlan& plan) {
+    plan = SurfacePlan{};
+    plan.rays = uint32_t(rays.size());
+    plan.built = true;
     if (rays.empty()) return;
-    const int N = out.frames.back().resolution;
     // Layers: each ray goes to the first layer whose pixel it finds free.
-    int imin = N, imax = -1, jmin = N, jmax = -1;
+    int imin = std::numeric_limits<int>::max(), imax = -1;
+    int jmin = std::numeric_limits<int>::max(), jmax = -1;
     for (const SurfaceRay& r : rays) {
         imin = std::min(imin, r.i), imax = std::max(imax, r.i);
         jmin = std::min(jmin, r.j), jmax = std::max(jmax, r.j);
     }
     const size_t w = size_t(imax - imin + 1), n = w * size_t(jmax - jmin + 1);
     std::vector<uint8_t> layers_at(n, 0);  // layers already holding each pixel
-    std::vector<std::vector<const SurfaceRay*>> layers;
-    for (const SurfaceRay& r : rays) {
-        uint8_t& k = layers_at[size_t(r.j - jmin) * w + size_t(r.i - imin)];
-        if (k == layers.size()) layers.emplace_back();
-        layers[k++].push_back(&r);
+    std::vector<std::vector<uint32_t>> layers;
+    for (uint32_t k = 0; k < rays.size(); ++k) {
+        uint8_t& at = layers_at[size_t(rays[k].j - jmin) * w + size_t(rays[k].i - imin)];
+        if (at == layers.size()) layers.emplace_back();
+        layers[at++].push_back(k);
     }
     for (const auto& layer : layers)
-        make_layer(scene, dirs, surfaces, surface, beam, incoming, layer, lost, out);
+        plan_layer(scene, dirs, surfaces, surface, incoming, rays, layer, plan);
+}
+
+void apply_surface_plan(const Scene& scene, const SurfacePlan& plan,
+                        const std::vector<SurfaceRay>& rays, double beam, Rgb& lost,
+                        SurfaceSources& out) {
+    VLF_CHECK(plan.built && plan.rays == rays.size());
+    for (const auto& [ray, frac] : plan.lost)
+        lost += rays[ray].power * power_factor(scene, rays[ray].face) * frac;
+    const uint32_t frame = uint32_t(out.frames.size() - 1);
+    for (const SurfacePlan::Target& pt : plan.targets) {
+        SurfaceTarget t{
+            frame, pt.surface, pt.direction, pt.sense, Rgb(0.0), uint32_t(out.pixels.size()), 0};
+        for (uint32_t k = pt.begin; k < pt.end; ++k) {
+            const SurfacePlan::Pixel& p = plan.pixels[k];
+            const SurfaceRay& r = rays[p.ray];
+            t.power += r.power * power_factor(scene, r.face) * p.part;
+            out.pixels.push_back(
+                {r.i, r.j, r.face, float(r.depth), RgbF(r.power / beam * p.part), p.around});
+        }
+        t.end = uint32_t(out.pixels.size());
+        out.targets.push_back(t);
+    }
+}
+
+int64_t SurfacePlan::bytes() const {
+    return int64_t(targets.capacity() * sizeof(Target) + pixels.capacity() * sizeof(Pixel) +
+                   lost.capacity() * sizeof(lost[0]));
 }
 
 int64_t SurfaceRayCache::bytes() const {
@@ -182,10 +202,18 @@ int64_t SurfaceRayCache::bytes() const {
     for (const SurfaceRays& r : rays)
         b += int64_t(r.rays.capacity() * sizeof(SurfaceRays::Ray) +
                      (r.head.capacity() + r.next.capacity()) * sizeof(int32_t));
+    for (const SurfaceGatherPlan& g : gathers)
+        b += int64_t(g.begin.capacity() * sizeof(uint32_t) +
+                     g.entries.capacity() * sizeof(GatherEntry));
     return b;
 }
 
 namespace {
+
+struct Ref {
+    uint32_t chunk, target;
+    int surface, sense;
+};
 
 // Whether the surface covers source pixel (i, j), known from a sending pixel p within one
 // pixel of it (its 5 x 5 neighbourhood holds (i, j)'s 3 x 3).
@@ -193,28 +221,30 @@ bool covered_near(const SurfacePixel& p, int i, int j) {
     return (p.around >> ((j - p.j + 2) * 5 + (i - p.i + 2))) & 1u;
 }
 
-// What a target ray landing on source pixel (i, j) at depth z gathers: a sending pixel's
-// value when the ray is on its sheet; where the ray falls just outside the surface's pixels,
-// the mean over the covered 8-neighbours (sending ones on the same sheet bring their value,
-// the others nothing).
-Rgb sample(const SurfacePixel* px, uint32_t n, int i, int j, double z, double tol) {
+// What a target ray (`ray`) landing on source pixel (i, j) at depth z gathers, as entries
+// (ray, sending pixel, weight): a sending pixel's value when the ray is on its sheet; where
+// the ray falls just outside the surface's pixels, the mean over the covered 8-neighbours
+// (sending ones on the same sheet bring their value, the others nothing).
+void sample(const SurfacePixel* px, uint32_t n, int i, int j, double z, double tol, int32_t ray,
+            std::vector<GatherEntry>& out) {
     const SurfacePixel* near = nullptr;
     for (uint32_t e = 0; e < n; ++e) {
-        if (px[e].i == i && px[e].j == j)
-            return std::abs(double(px[e].depth) - z) <= tol ? Rgb(px[e].value) : Rgb(0.0);
+        if (px[e].i == i && px[e].j == j) {
+            if (std::abs(double(px[e].depth) - z) <= tol) out.push_back({ray, e, 1.0f});
+            return;
+        }
         if (std::abs(px[e].i - i) <= 1 && std::abs(px[e].j - j) <= 1) near = &px[e];
     }
-    if (near == nullptr || covered_near(*near, i, j)) return Rgb(0.0);
+    if (near == nullptr || covered_near(*near, i, j)) return;
     int count = 0;
     for (int b = j - 1; b <= j + 1; ++b)
         for (int a = i - 1; a <= i + 1; ++a)
             count += (a != i || b != j) && covered_near(*near, a, b);
-    Rgb sum(0.0);
+    if (count == 0) return;
     for (uint32_t e = 0; e < n; ++e)
         if (std::abs(px[e].i - i) <= 1 && std::abs(px[e].j - j) <= 1 &&
             std::abs(double(px[e].depth) - z) <= tol)
-            sum += Rgb(px[e].value);
-    return count > 0 ? sum / double(count) : Rgb(0.0);
+            out.push_back({ray, e, 1.0f / float(count)});
 }
 
 // The scene-frame point of source pixel (i, j)'s corner (ci, cj in 0..1) on face f's plane.
@@ -258,12 +288,12 @@ size_t nearest_ray(const SurfaceRays& rays, const Mat3& rot, int N, const Vec3& 
     return best;
 }
 
-// Deposits target t into acc (per ray of `rays`, radiance units) by backward mapping of the
-// rays whose centres lie in the sending pixels' footprints.
-void gather_one(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget& t,
-                const SurfacePixel* px, const Mat3& rot, int N, double beam,
-                const SurfaceRays& rays, std::vector<Rgb>& acc,
-                std::vector<std::pair<int32_t, Rgb>>& picked) {
+// The backward mapping of target t (VLF §4.3): the rays of `rays` whose centres lie in the
+// sending pixels' footprints, each with the sending pixels whose values it takes. Appends to
+// `out`.
+void plan_gather(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget& t,
+                 const SurfacePixel* px, const Mat3& rot, int N, const SurfaceRays& rays,
+                 std::vector<GatherEntry>& out) {
     const uint32_t n = t.end - t.begin;
     double lo_i = 1e300, hi_i = -1e300, lo_j = 1e300, hi_j = -1e300;
     bool rim = false;  // a sending pixel beside one the surface does not cover
@@ -289,8 +319,6 @@ void gather_one(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget
     const int j0 = std::max(rays.j0, int(std::ceil(lo_j - 0.5)) - margin);
     const int j1 = std::min(rays.j0 + rays.height - 1, int(std::floor(hi_j - 0.5)) + margin);
     const double tol = kSheetPixels * 2.0 / src.resolution;
-    picked.clear();
-    Rgb total(0.0);
     for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i)
             for (int32_t r =
@@ -299,16 +327,27 @@ void gather_one(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget
                 const Vec3 q = rotate(src.rotation, rays.rays[size_t(r)].point);
                 const int si = int(std::floor((q.x + 1.0) * 0.5 * src.resolution));
                 const int sj = int(std::floor((q.y + 1.0) * 0.5 * src.resolution));
-                const Rgb g = sample(px, n, si, sj, q.z, tol);
-                if (g.x <= 0 && g.y <= 0 && g.z <= 0) continue;
-                picked.push_back({r, g});
-                total += g;
+                sample(px, n, si, sj, q.z, tol, r, out);
             }
+}
+
+// Deposits target t into acc (per ray of `rays`, radiance units) by its gather plan
+// [e0, e1): each ray takes the values of its sending pixels, and the pattern is scaled so the
+// target receives exactly its power, channel by channel.
+void apply_gather(const SurfaceFrame& src, const SurfaceTarget& t, const SurfacePixel* px,
+                  const Mat3& rot, int N, double beam, const SurfaceRays& rays,
+                  const GatherEntry* e0, const GatherEntry* e1, std::vector<Rgb>& acc) {
+    if (t.power.x <= 0 && t.power.y <= 0 && t.power.z <= 0) return;
+    Rgb total(0.0);
+    for (const GatherEntry* g = e0; g != e1; ++g)
+        total += Rgb(px[g->pixel].value) * double(g->weight);
+    const uint32_t n = t.end - t.begin;
     for (int c = 0; c < 3; ++c) {
         if (t.power[c] <= 0.0) continue;
         if (total[c] > 0.0) {
             const double scale = t.power[c] / (total[c] * beam);
-            for (const auto& [r, g] : picked) acc[size_t(r)][c] += g[c] * scale;
+            for (const GatherEntry* g = e0; g != e1; ++g)
+                acc[size_t(g->ray)][c] += double(px[g->pixel].value[c]) * double(g->weight) * scale;
             continue;
         }
         // No target ray's centre lies in the sending pixels' footprints on their sheet (the
@@ -328,22 +367,36 @@ void gather_one(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget
     }
 }
 
-struct Ref {
-    uint32_t chunk, target;
-    int surface, sense;
-};
+// The shape of a direction's targets (their sources, pixels and first pixel): the gather
+// plan kept for it holds while this stays the same.
+uint64_t shape_of(const std::vector<SurfaceSources>& sources, const std::vector<Ref>& refs) {
+    uint64_t h = 1469598103934665603ull;
+    auto mix = [&h](uint64_t x) { h = (h ^ x) * 1099511628211ull; };
+    mix(refs.size());
+    for (const Ref& r : refs) {
+        const SurfaceSources& from = sources[r.chunk];
+        const SurfaceTarget& t = from.targets[r.target];
+        mix(uint64_t(r.chunk) << 32 | r.target);
+        mix(uint64_t(uint32_t(t.surface)) << 32 | uint32_t(t.sense));
+        mix(uint64_t(t.end - t.begin) << 32 | t.frame);
+        const SurfacePixel& p = from.pixels[t.begin];
+        mix(uint64_t(uint32_t(p.i)) << 32 | uint32_t(p.j));
+    }
+    return h;
+}
 
 }  // namespace
 
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
-                                        const std::vector<SurfaceSources>& sources,
+                                        const std::vector<SurfaceSources>& sources, bool keep,
                                         SurfaceRayCache& cache, RadianceMaps& maps) {
     const size_t slots = size_t(surfaces.size()) * size_t(dirs.size()) * 2;
     if (cache.rays.size() != slots) {
         cache.rays.assign(slots, SurfaceRays{});
         cache.built.assign(slots, 0);
+        cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
     std::vector<std::vector<Ref>> by_direction(dirs.size());
     for (uint32_t c = 0; c < sources.size(); ++c)
@@ -363,8 +416,17 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         if (refs.empty()) return;
         const Mat3& rot = rotations[size_t(d)];
         const double beam = a * dirs.solid_angle(int(d));
+        // The plan of this direction's gathers: kept while the targets keep their shape.
+        SurfaceGatherPlan fresh;
+        SurfaceGatherPlan& plan = keep ? cache.gathers[size_t(d)] : fresh;
+        const uint64_t shape = shape_of(sources, refs);
+        const bool planned = keep && plan.shape == shape && plan.begin.size() == refs.size() + 1;
+        if (!planned) {
+            plan.shape = shape;
+            plan.begin.clear();
+            plan.entries.clear();
+        }
         std::vector<Rgb> acc;
-        std::vector<std::pair<int32_t, Rgb>> picked;
         for (size_t r = 0; r < refs.size();) {
             const int surface = refs[r].surface, sense = refs[r].sense;
             const size_t slot =
@@ -379,8 +441,15 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             for (; r < refs.size() && refs[r].surface == surface && refs[r].sense == sense; ++r) {
                 const SurfaceSources& from = sources[refs[r].chunk];
                 const SurfaceTarget& t = from.targets[refs[r].target];
-                gather_one(scene, from.frames[t.frame], t, from.pixels.data() + t.begin, rot, N,
-                           beam, rays, acc, picked);
+                const SurfacePixel* px = from.pixels.data() + t.begin;
+                if (!planned) {
+                    plan.begin.push_back(uint32_t(plan.entries.size()));
+                    plan_gather(scene, from.frames[t.frame], t, px, rot, N, rays, plan.entries);
+                }
+                const uint32_t e1 =
+                    r + 1 < plan.begin.size() ? plan.begin[r + 1] : uint32_t(plan.entries.size());
+                apply_gather(from.frames[t.frame], t, px, rot, N, beam, rays,
+                             plan.entries.data() + plan.begin[r], plan.entries.data() + e1, acc);
             }
             for (size_t k = 0; k < rays.rays.size(); ++k) {
                 if (acc[k].x == 0.0 && acc[k].y == 0.0 && acc[k].z == 0.0) continue;
@@ -391,6 +460,10 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
                 rounding[size_t(d - maps.first)] +=
                     (acc[k] - (Rgb(maps.unshot_next[at]) - Rgb(before))) * beam;
             }
+        }
+        if (!planned) {
+            plan.begin.push_back(uint32_t(plan.entries.size()));
+            if (keep) plan.entries.shrink_to_fit(), plan.begin.shrink_to_fit();
         }
     });
     return rounding;

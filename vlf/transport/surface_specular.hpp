@@ -77,31 +77,76 @@ struct SurfaceRay {
     double depth;  // z of the point in the PSF's frame
 };
 
-// Makes the targets of the rays `rays` (all of one surface, met by light travelling along
-// `incoming`, in the PSF of out.frames.back(), `beam` = a * Delta). Adds to `lost` the power
-// no PSF direction can carry. Appends to `out`.
-void make_surface_sources(const Scene& scene, const DirectionSet& dirs,
-                          const SmoothSurfaces& surfaces, int surface, double beam,
-                          const Vec3& incoming, const std::vector<SurfaceRay>& rays, Rgb& lost,
-                          SurfaceSources& out);
+// The geometric part of one surface side's sources in one pass direction: per target, the
+// rays that send to it and the part of each ray's light they send. Made once from the rays'
+// points (all of them, lit or not) and applied every cycle to the power the rays bring: the
+// geometry does not change from cycle to cycle.
+struct SurfacePlan {
+    struct Pixel {
+        uint32_t ray;     // in the rays it was made from
+        uint32_t around;  // as SurfacePixel::around
+        double part;      // of the ray's light (the turn's Fresnel part times the weight)
+    };
+    struct Target {
+        int surface, direction, sense;
+        uint32_t begin, end;  // its pixels
+    };
+    std::vector<Target> targets;
+    std::vector<Pixel> pixels;
+    std::vector<std::pair<uint32_t, double>> lost;  // rays' parts that no PSF can carry
+    uint32_t rays = 0;                              // the rays it was made from
+    bool built = false;
+    int64_t bytes() const;
+};
+
+// Makes the plan of the rays `rays` (all of one surface, met by light travelling along
+// `incoming`).
+void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
+                       int surface, const Vec3& incoming, const std::vector<SurfaceRay>& rays,
+                       SurfacePlan& plan);
+// Appends the targets of `plan` for the power `rays` bring now (the rays it was made from),
+// in the PSF of out.frames.back(), `beam` = a * Delta; adds to `lost` the power no PSF can
+// carry. Every target of the plan is appended, lit or not, so a pass's sources have the
+// same shape every cycle (the gathers keep their plans by it).
+void apply_surface_plan(const Scene& scene, const SurfacePlan& plan,
+                        const std::vector<SurfaceRay>& rays, double beam, Rgb& lost,
+                        SurfaceSources& out);
 SurfaceFrame surface_frame(const Mat3& rotation, int N);
 
+// A target ray's share of a sending pixel's value in the backward mapping.
+struct GatherEntry {
+    int32_t ray;     // in the target surface's rays (SurfaceRays)
+    uint32_t pixel;  // in the target's pixels
+    float weight;
+};
+
+// The backward mappings of a direction's targets, in gather order: target k's entries are
+// [begin[k], begin[k + 1]). Kept while the targets have the same shape (`shape`).
+struct SurfaceGatherPlan {
+    uint64_t shape = 0;
+    std::vector<uint32_t> begin;
+    std::vector<GatherEntry> entries;
+};
+
 // The surfaces' rays per (surface, direction, sense), built the first time a gather needs
-// them and kept (the geometry does not change from cycle to cycle).
+// them, and the gathers' plans per direction, kept (the geometry does not change from cycle
+// to cycle).
 struct SurfaceRayCache {
     std::vector<SurfaceRays> rays;  // (surface * directions + d) * 2 + (sense > 0 ? 0 : 1)
     std::vector<uint8_t> built;
+    std::vector<SurfaceGatherPlan> gathers;  // per direction
     int64_t bytes() const;
 };
 
 // Phase 2: gathers every target of `sources` (in order) into maps.unshot_next (only the
-// directions `maps` holds), adding to it. `rotations[d]` is the rotation of PSF d, `N`, `m` the
-// radiance-map grid. Returns, per held direction, the power single precision rounded away (as
-// gather_specular).
+// directions `maps` holds), adding to it. With `keep` (the true directions' pass), each
+// direction's gather plan is kept in `cache` and reused while its targets keep their shape.
+// `rotations[d]` is the rotation of PSF d, `N`, `m` the radiance-map grid. Returns, per held
+// direction, the power single precision rounded away (as gather_specular).
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
-                                        const std::vector<SurfaceSources>& sources,
+                                        const std::vector<SurfaceSources>& sources, bool keep,
                                         SurfaceRayCache& cache, RadianceMaps& maps);
 
 }  // namespace vlf

@@ -70,9 +70,15 @@ double Transport::to_user_power() const {
 
 int64_t Transport::memory_bytes() const {
     return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
-           m_other.bytes() + m_coverage.bytes() + m_surface_rays.bytes() +
+           m_other.bytes() + m_coverage.bytes() + m_surface_rays.bytes() + surface_plan_bytes() +
            static_cast<int64_t>(m_work->chunks.capacity() * m_tex.texels() * sizeof(Rgb)) +
            geometry_cache_bytes();
+}
+
+int64_t Transport::surface_plan_bytes() const {
+    int64_t b = int64_t(m_surface_plans.capacity() * sizeof(SurfacePlan));
+    for (const SurfacePlan& p : m_surface_plans) b += p.bytes();
+    return b;
 }
 
 void Transport::load_emission(LedgerEntry& e) {
@@ -178,25 +184,27 @@ void Transport::run_pass(int pass, double share) {
     const int s = m_params.supersample;
     const int Nc = m_params.field.resolution, mc = m_params.field.tile;  // radiance-map grid
     const Senders senders = find_senders(m_scene, m_tex, m_deferred, directions.send_norm);
-    const PassContext pc{.scene = m_scene,
-                         .dirs = m_dirs,
-                         .coverage = m_coverage,
-                         .surfaces = m_surfaces,
-                         .charts = directions.charts,
-                         .record_charts = !directions.norms_known,
-                         .tex = m_tex,
-                         .spec = m_spec,
-                         .other = m_other,
-                         .rotations = directions.rotations,
-                         .send_norm = directions.send_norm,
-                         .senders = senders,
-                         .share = share,
-                         .true_directions = pass == 0,
-                         .s = s,
-                         .Nc = Nc,
-                         .mc = mc,
-                         .N = Nc * s,
-                         .m = mc * s};
+    const PassContext pc{
+        .scene = m_scene,
+        .dirs = m_dirs,
+        .coverage = m_coverage,
+        .surfaces = m_surfaces,
+        .charts = directions.charts,
+        .record_charts = !directions.norms_known,
+        .tex = m_tex,
+        .spec = m_spec,
+        .other = m_other,
+        .rotations = directions.rotations,
+        .send_norm = directions.send_norm,
+        .senders = senders,
+        .share = share,
+        .true_directions = pass == 0,
+        .surface_plans = pass == 0 && !m_surfaces.empty() ? &m_surface_plans : nullptr,
+        .s = s,
+        .Nc = Nc,
+        .mc = mc,
+        .N = Nc * s,
+        .m = mc * s};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
     // cycle (identical either way, so the budget never changes a map). A perturbed pass's
     // geometry is not worth keeping in the last cycle that perturbs: it clips only the rays
@@ -235,8 +243,9 @@ void Transport::run_pass(int pass, double share) {
         // order across the ranks (DESIGN §5 Parallelism).
         std::vector<Rgb> rounding =
             gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources.faces, m_spec);
-        const std::vector<Rgb> smooth = gather_surface_sources(
-            m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces, m_surface_rays, m_spec);
+        const std::vector<Rgb> smooth =
+            gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces,
+                                   pass == 0, m_surface_rays, m_spec);
         for (size_t d = 0; d < rounding.size(); ++d) rounding[d] += smooth[d];
         Rgb sum(0.0);
         sum_in_rank_order(sum, [&](Rgb& s) {

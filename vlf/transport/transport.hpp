@@ -193,6 +193,7 @@ class Transport {
     void swap_maps(Rgb& unshot, Rgb& deferred);
     // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
     void release_perturbed_geometry();
+    int64_t surface_plan_bytes() const;
 
     const Scene& m_scene;
     PropagateParams m_params;
@@ -201,7 +202,9 @@ class Transport {
     Coverage m_coverage;             // stored faces and emitters, on the N x N grid
     SmoothSurfaces m_surfaces;       // smooth mirrors and glass: one source per surface
     SurfaceRayCache m_surface_rays;  // their rays per direction, for the gathers
-    std::vector<Pass> m_passes;      // the true directions, then each perturbation
+    // Per (direction, surface, side): the plans of their sources in the true directions.
+    std::vector<SurfacePlan> m_surface_plans;
+    std::vector<Pass> m_passes;  // the true directions, then each perturbation
     TextureMaps m_tex;
     RadianceMaps m_spec;                   // L_U, L_T of specular faces, own directions
     RadianceMaps m_other;                  // L_T of the other faces (--store-all-rays), own

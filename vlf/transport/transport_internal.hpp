@@ -112,6 +112,7 @@ struct Scratch {
     std::vector<uint32_t> present;                        // one chart's part of by_chart
     std::vector<uint32_t> slot_face;                      // attenuate_step: per slot, its face
     std::vector<std::vector<SurfaceRay>> surface_rays;    // receive_step: per (surface, side)
+    SurfacePlan surface_plan;                             // receive_step: one not kept
 };
 
 // What one chunk of directions adds to the pass; reduced in chunk order.
@@ -190,9 +191,12 @@ struct PassContext {
     const Senders& senders;
     double share;          // 1 / the passes of the cycle: what each pass sends of a share
     bool true_directions;  // pass 0: radiance maps are read and written
-    int s;                 // super-sampling
-    int Nc, mc;            // the radiance-map grid
-    int N, m;              // the exchange grid, s times finer
+    // Per (direction, smooth surface, side): the plans of its sources, kept from cycle to
+    // cycle; null where they are made afresh each time (the perturbed passes).
+    std::vector<SurfacePlan>* surface_plans;
+    int s;       // super-sampling
+    int Nc, mc;  // the radiance-map grid
+    int N, m;    // the exchange grid, s times finer
 };
 
 // One direction of a pass, as its steps see it.
