@@ -275,11 +275,15 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         if (mat.is_specular()) reflect_specular(pc, pd, f, frags, r, mat, w.in, res);
     }
     // The smooth surfaces' sources, surface by surface, each side (facing +z first). Their
-    // plans are kept from cycle to cycle in the pass of the true directions.
+    // plans are kept from cycle to cycle in the pass of the true directions; once the
+    // gathers keep theirs too, only the power the rays bring is written down.
     if (surfaces.empty()) return;
-    if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
-    SurfaceSources& out = res.sources.surfaces.back();
-    out.frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
+    SurfaceArrivals* arrivals = pc.surface_arrivals;
+    const bool arriving = arrivals != nullptr && arrivals->ready;
+    if (!arriving) {
+        if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
+        res.sources.surfaces.back().frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
+    }
     for (int s = 0; s < surfaces.size(); ++s)
         for (int side = 0; side < 2; ++side) {
             const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
@@ -296,7 +300,12 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
                 const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
                 make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming, rays, plan);
             }
-            apply_surface_plan(pc.scene, plan, rays, pd.beam, res.lost.grazing_mirror, out);
+            if (arriving)
+                arrive_surface_plan(pc.scene, plan, rays, res.lost.grazing_mirror,
+                                    arrivals->power.data() + arrivals->first[slot]);
+            else
+                apply_surface_plan(pc.scene, plan, keep ? uint32_t(slot) : ~0u, rays,
+                                   res.lost.grazing_mirror, res.sources.surfaces.back());
         }
 }
 

@@ -170,26 +170,39 @@ void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const Smoot
         plan_layer(scene, dirs, surfaces, surface, incoming, rays, layer, plan);
 }
 
-void apply_surface_plan(const Scene& scene, const SurfacePlan& plan,
-                        const std::vector<SurfaceRay>& rays, double beam, Rgb& lost,
-                        SurfaceSources& out) {
+void apply_surface_plan(const Scene& scene, const SurfacePlan& plan, uint32_t slot,
+                        const std::vector<SurfaceRay>& rays, Rgb& lost, SurfaceSources& out) {
     VLF_CHECK(plan.built && plan.rays == rays.size());
     for (const auto& [ray, frac] : plan.lost)
         lost += rays[ray].power * power_factor(scene, rays[ray].face) * frac;
     const uint32_t frame = uint32_t(out.frames.size() - 1);
     for (const SurfacePlan::Target& pt : plan.targets) {
-        SurfaceTarget t{
-            frame, pt.surface, pt.direction, pt.sense, Rgb(0.0), uint32_t(out.pixels.size()), 0};
+        SurfaceTarget t{frame, pt.surface, pt.direction, pt.sense, uint32_t(out.pixels.size()), 0};
         for (uint32_t k = pt.begin; k < pt.end; ++k) {
             const SurfacePlan::Pixel& p = plan.pixels[k];
             const SurfaceRay& r = rays[p.ray];
-            t.power += r.power * power_factor(scene, r.face) * p.part;
             out.pixels.push_back(
-                {r.i, r.j, r.face, float(r.depth), RgbF(r.power / beam * p.part), p.around});
+                {r.i, r.j, r.face, float(r.depth), r.power, p.part, p.around, slot, p.ray});
         }
         t.end = uint32_t(out.pixels.size());
         out.targets.push_back(t);
     }
+}
+
+void index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals) {
+    arrivals.first.assign(plans.size() + 1, 0);
+    for (size_t k = 0; k < plans.size(); ++k)
+        arrivals.first[k + 1] = arrivals.first[k] + plans[k].rays;
+    arrivals.power.assign(arrivals.first.back(), Rgb(0.0));
+    arrivals.ready = false;
+}
+
+void arrive_surface_plan(const Scene& scene, const SurfacePlan& plan,
+                         const std::vector<SurfaceRay>& rays, Rgb& lost, Rgb* at) {
+    VLF_CHECK(plan.built && plan.rays == rays.size());
+    for (const auto& [ray, frac] : plan.lost)
+        lost += rays[ray].power * power_factor(scene, rays[ray].face) * frac;
+    for (size_t k = 0; k < rays.size(); ++k) at[k] = rays[k].power;
 }
 
 int64_t SurfacePlan::bytes() const {
@@ -203,7 +216,9 @@ int64_t SurfaceRayCache::bytes() const {
         b += int64_t(r.rays.capacity() * sizeof(SurfaceRays::Ray) +
                      (r.head.capacity() + r.next.capacity()) * sizeof(int32_t));
     for (const SurfaceGatherPlan& g : gathers)
-        b += int64_t(g.begin.capacity() * sizeof(uint32_t) +
+        b += int64_t(g.groups.capacity() * sizeof(SurfaceGatherPlan::Group) +
+                     (g.pixel_begin.capacity() + g.entry_begin.capacity()) * sizeof(uint32_t) +
+                     g.pixels.capacity() * sizeof(GatherPixel) +
                      g.entries.capacity() * sizeof(GatherEntry));
     return b;
 }
@@ -331,67 +346,142 @@ void plan_gather(const Scene& scene, const SurfaceFrame& src, const SurfaceTarge
             }
 }
 
-// Deposits target t into acc (per ray of `rays`, radiance units) by its gather plan
-// [e0, e1): each ray takes the values of its sending pixels, and the pattern is scaled so the
-// target receives exactly its power, channel by channel.
-void apply_gather(const SurfaceFrame& src, const SurfaceTarget& t, const SurfacePixel* px,
-                  const Mat3& rot, int N, double beam, const SurfaceRays& rays,
-                  const GatherEntry* e0, const GatherEntry* e1, std::vector<Rgb>& acc) {
-    if (t.power.x <= 0 && t.power.y <= 0 && t.power.z <= 0) return;
+// Deposits one target into acc (per ray of `rays`, radiance units) by its plan: pixels
+// [p, p + n) with their powers `power(e)`, entries [e0, e1). Each entry's ray takes its
+// pixel's value (power times part) times its weight, and the pattern is scaled so the target
+// receives exactly its power (`factor` times the pixels' values), channel by channel
+// (DESIGN §5). Where no entry takes a pixel's value it goes to the ray nearest its point.
+template <class Power>
+void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherEntry* e0,
+                  const GatherEntry* e1, const Rgb& factor, double beam, std::vector<Rgb>& acc) {
+    constexpr uint32_t kSmall = 16;
+    Rgb small[kSmall];
+    std::vector<Rgb> large;
+    Rgb* value = small;
+    if (n > kSmall) large.resize(n), value = large.data();
+    Rgb sum(0.0);
+    for (uint32_t e = 0; e < n; ++e) {
+        value[e] = power(e) * p[e].part;
+        sum += value[e];
+    }
+    const Rgb target = sum * factor;
+    if (target.x <= 0 && target.y <= 0 && target.z <= 0) return;
     Rgb total(0.0);
-    for (const GatherEntry* g = e0; g != e1; ++g)
-        total += Rgb(px[g->pixel].value) * double(g->weight);
-    const uint32_t n = t.end - t.begin;
+    for (const GatherEntry* g = e0; g != e1; ++g) total += value[g->pixel] * double(g->weight);
     for (int c = 0; c < 3; ++c) {
-        if (t.power[c] <= 0.0) continue;
+        if (target[c] <= 0.0) continue;
         if (total[c] > 0.0) {
-            const double scale = t.power[c] / (total[c] * beam);
+            const double scale = target[c] / (total[c] * beam);
             for (const GatherEntry* g = e0; g != e1; ++g)
-                acc[size_t(g->ray)][c] += double(px[g->pixel].value[c]) * double(g->weight) * scale;
+                acc[size_t(g->ray)][c] += value[g->pixel][c] * double(g->weight) * scale;
             continue;
         }
-        // No target ray's centre lies in the sending pixels' footprints on their sheet (the
-        // footprints are smaller than the target's rays there): each pixel's share goes to
-        // the target ray nearest its point. Energy stays exact.
-        double sum = 0.0;
-        for (uint32_t e = 0; e < n; ++e) sum += double(px[e].value[c]);
-        for (uint32_t e = 0; e < n; ++e) {
-            const double share = sum > 0.0 ? double(px[e].value[c]) / sum : 1.0 / double(n);
-            if (share <= 0.0) continue;
-            const Vec3 x =
-                rotate_back(src.rotation, Vec3(2.0 * (px[e].i + 0.5) / src.resolution - 1.0,
-                                               2.0 * (px[e].j + 0.5) / src.resolution - 1.0,
-                                               double(px[e].depth)));
-            acc[nearest_ray(rays, rot, N, x)][c] += t.power[c] * share / beam;
-        }
+        // No target ray's centre lies in the footprints of the pixels that send this
+        // channel, on their sheet (the footprints are smaller than the target's rays there):
+        // each pixel's share goes to the target ray nearest its point. Energy stays exact.
+        for (uint32_t e = 0; e < n; ++e)
+            if (value[e][c] > 0.0)
+                acc[size_t(p[e].nearest)][c] += target[c] * (value[e][c] / sum[c]) / beam;
     }
 }
 
-// The shape of a direction's targets (their sources, pixels and first pixel): the gather
-// plan kept for it holds while this stays the same.
-uint64_t shape_of(const std::vector<SurfaceSources>& sources, const std::vector<Ref>& refs) {
-    uint64_t h = 1469598103934665603ull;
-    auto mix = [&h](uint64_t x) { h = (h ^ x) * 1099511628211ull; };
-    mix(refs.size());
-    for (const Ref& r : refs) {
-        const SurfaceSources& from = sources[r.chunk];
-        const SurfaceTarget& t = from.targets[r.target];
-        mix(uint64_t(r.chunk) << 32 | r.target);
-        mix(uint64_t(uint32_t(t.surface)) << 32 | uint32_t(t.sense));
-        mix(uint64_t(t.end - t.begin) << 32 | t.frame);
-        const SurfacePixel& p = from.pixels[t.begin];
-        mix(uint64_t(uint32_t(p.i)) << 32 | uint32_t(p.j));
+// Plans target t's gather: its pixels (with where their power arrives, `first` per plan
+// slot, or null) and entries, appended to `plan`.
+void plan_target(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget& t,
+                 const SurfacePixel* px, const Mat3& rot, int N, const SurfaceRays& rays,
+                 const std::vector<uint64_t>* first, SurfaceGatherPlan& plan) {
+    const uint32_t n = t.end - t.begin;
+    const size_t e0 = plan.entries.size();
+    plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
+    plan.entry_begin.push_back(uint32_t(e0));
+    plan_gather(scene, src, t, px, rot, N, rays, plan.entries);
+    std::vector<uint8_t> taken(n, 0);
+    for (size_t e = e0; e < plan.entries.size(); ++e) taken[plan.entries[e].pixel] = 1;
+    for (uint32_t e = 0; e < n; ++e) {
+        const SurfacePixel& q = px[e];
+        int32_t nearest = -1;
+        if (!taken[e]) {
+            const Vec3 x = rotate_back(
+                src.rotation, Vec3(2.0 * (q.i + 0.5) / src.resolution - 1.0,
+                                   2.0 * (q.j + 0.5) / src.resolution - 1.0, double(q.depth)));
+            nearest = int32_t(nearest_ray(rays, rot, N, x));
+        }
+        const uint64_t arrival = first != nullptr ? (*first)[q.plan] + q.ray : 0;
+        plan.pixels.push_back({arrival, nearest, q.part});
     }
-    return h;
+}
+
+// Deposits acc (per ray of `rays`) into direction d's unshot maps; adds what single precision
+// rounds away to `rounding`.
+void deposit(const std::vector<Rgb>& acc, const SurfaceRays& rays, int d, double beam,
+             RadianceMaps& maps, Rgb& rounding) {
+    for (size_t k = 0; k < rays.rays.size(); ++k) {
+        if (acc[k].x == 0.0 && acc[k].y == 0.0 && acc[k].z == 0.0) continue;
+        const SurfaceRays::Ray& ray = rays.rays[k];
+        const uint64_t at = maps.begin(d, ray.face) + ray.k;
+        const RgbF before = maps.unshot_next[at];
+        maps.unshot_next[at] += RgbF(acc[k]);
+        rounding += (acc[k] - (Rgb(maps.unshot_next[at]) - Rgb(before))) * beam;
+    }
+}
+
+// The rays of `surface` in direction d along `sense` (built the first time they are asked
+// for; only d's task asks for them).
+SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
+                     const Mat3& rot, int N, int m, int surface, int d, int sense,
+                     SurfaceRayCache& cache) {
+    const size_t slot =
+        (size_t(surface) * size_t(dirs.size()) + size_t(d)) * 2 + (sense > 0 ? 0 : 1);
+    SurfaceRays& rays = cache.rays[slot];
+    if (!cache.built[slot]) {
+        surface_rays(scene, surfaces, surface, rot, dirs.direction(d) * double(sense), N, m, rays);
+        cache.built[slot] = 1;
+    }
+    return rays;
+}
+
+// Runs direction d's gathers by `plan`; `power(target, e)` is the power of the target's
+// pixel e.
+template <class Power>
+Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGatherPlan& plan,
+             const std::vector<SurfaceRays*>& group_rays, int d, double beam, Power&& power,
+             RadianceMaps& maps) {
+    Rgb rounding(0.0);
+    std::vector<Rgb> acc;
+    uint32_t t = 0;
+    for (size_t g = 0; g < plan.groups.size(); ++g) {
+        const SurfaceGatherPlan::Group& group = plan.groups[g];
+        const SurfaceRays& rays = *group_rays[g];
+        const Rgb factor = power_factor(scene, surfaces.faces[size_t(group.surface)][0]);
+        acc.assign(rays.rays.size(), Rgb(0.0));
+        for (; t < group.end; ++t) {
+            const uint32_t p0 = plan.pixel_begin[t];
+            apply_target(
+                plan.pixels.data() + p0, plan.pixel_begin[t + 1] - p0,
+                [&](uint32_t e) { return power(t, e); }, plan.entries.data() + plan.entry_begin[t],
+                plan.entries.data() + plan.entry_begin[t + 1], factor, beam, acc);
+        }
+        deposit(acc, rays, d, beam, maps, rounding);
+    }
+    return rounding;
 }
 
 }  // namespace
 
+void SurfaceGatherPlan::clear() {
+    groups.clear();
+    pixel_begin.clear();
+    entry_begin.clear();
+    pixels.clear();
+    entries.clear();
+}
+
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
-                                        const std::vector<SurfaceSources>& sources, bool keep,
-                                        SurfaceRayCache& cache, RadianceMaps& maps) {
+                                        const std::vector<SurfaceSources>& sources,
+                                        SurfaceArrivals* arrivals, SurfaceRayCache& cache,
+                                        RadianceMaps& maps) {
     const size_t slots = size_t(surfaces.size()) * size_t(dirs.size()) * 2;
     if (cache.rays.size() != slots) {
         cache.rays.assign(slots, SurfaceRays{});
@@ -410,61 +500,69 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             return std::tie(a.surface, a.sense) < std::tie(b.surface, b.sense);
         });
     const double a = ray_area(N);
+    const bool keep = arrivals != nullptr;
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
     parallel_for(maps.first, maps.last, [&](long d) {
         const auto& refs = by_direction[size_t(d)];
-        if (refs.empty()) return;
-        const Mat3& rot = rotations[size_t(d)];
-        const double beam = a * dirs.solid_angle(int(d));
-        // The plan of this direction's gathers: kept while the targets keep their shape.
         SurfaceGatherPlan fresh;
         SurfaceGatherPlan& plan = keep ? cache.gathers[size_t(d)] : fresh;
-        const uint64_t shape = shape_of(sources, refs);
-        const bool planned = keep && plan.shape == shape && plan.begin.size() == refs.size() + 1;
-        if (!planned) {
-            plan.shape = shape;
-            plan.begin.clear();
-            plan.entries.clear();
+        plan.clear();
+        if (refs.empty()) return;
+        const Mat3& rot = rotations[size_t(d)];
+        std::vector<SurfaceRays*> group_rays;
+        for (size_t r = 0; r < refs.size(); ++r) {
+            if (r == 0 || refs[r].surface != refs[r - 1].surface ||
+                refs[r].sense != refs[r - 1].sense) {
+                plan.groups.push_back({refs[r].surface, refs[r].sense, 0});
+                group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, refs[r].surface,
+                                              int(d), refs[r].sense, cache));
+            }
+            const SurfaceSources& from = sources[refs[r].chunk];
+            const SurfaceTarget& t = from.targets[refs[r].target];
+            plan_target(scene, from.frames[t.frame], t, from.pixels.data() + t.begin, rot, N,
+                        *group_rays.back(), keep ? &arrivals->first : nullptr, plan);
+            plan.groups.back().end = uint32_t(r + 1);
         }
-        std::vector<Rgb> acc;
-        for (size_t r = 0; r < refs.size();) {
-            const int surface = refs[r].surface, sense = refs[r].sense;
+        plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
+        plan.entry_begin.push_back(uint32_t(plan.entries.size()));
+        rounding[size_t(d - maps.first)] = run_plan(
+            scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
+            [&](uint32_t t, uint32_t e) {
+                const SurfaceSources& from = sources[refs[t].chunk];
+                return from.pixels[from.targets[refs[t].target].begin + e].power;
+            },
+            maps);
+        if (keep) {
+            plan.pixels.shrink_to_fit();
+            plan.entries.shrink_to_fit();
+        }
+    });
+    if (keep) arrivals->ready = true;
+    return rounding;
+}
+
+std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet& dirs, int N,
+                                         const SmoothSurfaces& surfaces,
+                                         const SurfaceArrivals& arrivals, SurfaceRayCache& cache,
+                                         RadianceMaps& maps) {
+    VLF_CHECK(arrivals.ready);
+    const double a = ray_area(N);
+    std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
+    parallel_for(maps.first, maps.last, [&](long d) {
+        const SurfaceGatherPlan& plan = cache.gathers[size_t(d)];
+        if (plan.groups.empty()) return;
+        std::vector<SurfaceRays*> group_rays;
+        for (const SurfaceGatherPlan::Group& g : plan.groups) {
             const size_t slot =
-                (size_t(surface) * size_t(dirs.size()) + size_t(d)) * 2 + (sense > 0 ? 0 : 1);
-            SurfaceRays& rays = cache.rays[slot];  // this task's direction only
-            if (!cache.built[slot]) {
-                surface_rays(scene, surfaces, surface, rot, dirs.direction(int(d)) * double(sense),
-                             N, m, rays);
-                cache.built[slot] = 1;
-            }
-            acc.assign(rays.rays.size(), Rgb(0.0));
-            for (; r < refs.size() && refs[r].surface == surface && refs[r].sense == sense; ++r) {
-                const SurfaceSources& from = sources[refs[r].chunk];
-                const SurfaceTarget& t = from.targets[refs[r].target];
-                const SurfacePixel* px = from.pixels.data() + t.begin;
-                if (!planned) {
-                    plan.begin.push_back(uint32_t(plan.entries.size()));
-                    plan_gather(scene, from.frames[t.frame], t, px, rot, N, rays, plan.entries);
-                }
-                const uint32_t e1 =
-                    r + 1 < plan.begin.size() ? plan.begin[r + 1] : uint32_t(plan.entries.size());
-                apply_gather(from.frames[t.frame], t, px, rot, N, beam, rays,
-                             plan.entries.data() + plan.begin[r], plan.entries.data() + e1, acc);
-            }
-            for (size_t k = 0; k < rays.rays.size(); ++k) {
-                if (acc[k].x == 0.0 && acc[k].y == 0.0 && acc[k].z == 0.0) continue;
-                const SurfaceRays::Ray& ray = rays.rays[k];
-                const uint64_t at = maps.begin(int(d), ray.face) + ray.k;
-                const RgbF before = maps.unshot_next[at];
-                maps.unshot_next[at] += RgbF(acc[k]);
-                rounding[size_t(d - maps.first)] +=
-                    (acc[k] - (Rgb(maps.unshot_next[at]) - Rgb(before))) * beam;
-            }
+                (size_t(g.surface) * size_t(dirs.size()) + size_t(d)) * 2 + (g.sense > 0 ? 0 : 1);
+            group_rays.push_back(&cache.rays[slot]);
         }
-        if (!planned) {
-            plan.begin.push_back(uint32_t(plan.entries.size()));
-            if (keep) plan.entries.shrink_to_fit(), plan.begin.shrink_to_fit();
-        }
+        rounding[size_t(d - maps.first)] = run_plan(
+            scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
+            [&](uint32_t t, uint32_t e) {
+                return arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];
+            },
+            maps);
     });
     return rounding;
 }

@@ -36,8 +36,11 @@ struct SurfacePixel {
     int32_t i, j;     // on the source PSF's grid
     int32_t face;     // the face its ray met
     float depth;      // z of that point in the source PSF's frame
-    RgbF value;       // incoming radiance times the part of it that goes to the target
+    Rgb power;        // arriving on its ray
+    double part;      // of that power that goes to the target (Fresnel part times weight)
     uint32_t around;  // bit (b + 2) * 5 + (a + 2): the surface covers pixel (i + a, j + b)
+    uint32_t plan;    // its ray's plan (SurfacePlans slot) and the ray in it: where its
+    uint32_t ray;     // power arrives on later cycles (SurfaceArrivals)
 };
 
 // The source PSF of a pass direction.
@@ -51,7 +54,6 @@ struct SurfaceFrame {
 struct SurfaceTarget {
     uint32_t frame;  // in SurfaceSources::frames
     int surface, direction, sense;
-    Rgb power;            // deposited there, normalised units
     uint32_t begin, end;  // its pixels in SurfaceSources::pixels
 };
 
@@ -104,13 +106,29 @@ struct SurfacePlan {
 void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
                        int surface, const Vec3& incoming, const std::vector<SurfaceRay>& rays,
                        SurfacePlan& plan);
-// Appends the targets of `plan` for the power `rays` bring now (the rays it was made from),
-// in the PSF of out.frames.back(), `beam` = a * Delta; adds to `lost` the power no PSF can
-// carry. Every target of the plan is appended, lit or not, so a pass's sources have the
-// same shape every cycle (the gathers keep their plans by it).
-void apply_surface_plan(const Scene& scene, const SurfacePlan& plan,
-                        const std::vector<SurfaceRay>& rays, double beam, Rgb& lost,
-                        SurfaceSources& out);
+// Appends the targets of `plan` (kept in slot `slot`, or ~0u) for the power `rays` bring now
+// (the rays it was made from), in the PSF of out.frames.back(); adds to `lost` the power no
+// PSF can carry. Every target of the plan is appended, lit or not, so a pass's sources have
+// the same shape every cycle.
+void apply_surface_plan(const Scene& scene, const SurfacePlan& plan, uint32_t slot,
+                        const std::vector<SurfaceRay>& rays, Rgb& lost, SurfaceSources& out);
+
+// Where the power of the smooth surfaces' rays arrives once the plans are kept (the true
+// directions' pass of a single rank, from its second cycle on): per plan slot, its rays'
+// first index in `power`. The gathers read it through their kept plans instead of
+// sources.
+struct SurfaceArrivals {
+    std::vector<uint64_t> first;  // per SurfacePlans slot, and one past the end
+    std::vector<Rgb> power;
+    bool ready = false;  // the gathers' plans are kept and read `power`
+};
+// `first` from the plans' ray counts.
+void index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals);
+// Writes the power `rays` bring into `at` (the plan's rays), adds to `lost` what no PSF can
+// carry.
+void arrive_surface_plan(const Scene& scene, const SurfacePlan& plan,
+                         const std::vector<SurfaceRay>& rays, Rgb& lost, Rgb* at);
+
 SurfaceFrame surface_frame(const Mat3& rotation, int N);
 
 // A target ray's share of a sending pixel's value in the backward mapping.
@@ -119,13 +137,25 @@ struct GatherEntry {
     uint32_t pixel;  // in the target's pixels
     float weight;
 };
+// A sending pixel as the gather sees it.
+struct GatherPixel {
+    uint64_t arrival;  // its power in SurfaceArrivals::power (kept plans)
+    int32_t nearest;   // the target ray nearest its point, where no entry takes its value
+    double part;
+};
 
-// The backward mappings of a direction's targets, in gather order: target k's entries are
-// [begin[k], begin[k + 1]). Kept while the targets have the same shape (`shape`).
+// The backward mappings of one direction's targets, in gather order (VLF §4.3), grouped by
+// target surface and sense.
 struct SurfaceGatherPlan {
-    uint64_t shape = 0;
-    std::vector<uint32_t> begin;
+    struct Group {
+        int surface, sense;
+        uint32_t end;  // one past its last target
+    };
+    std::vector<Group> groups;
+    std::vector<uint32_t> pixel_begin, entry_begin;  // per target, and one past the end
+    std::vector<GatherPixel> pixels;
     std::vector<GatherEntry> entries;
+    void clear();
 };
 
 // The surfaces' rays per (surface, direction, sense), built the first time a gather needs
@@ -139,14 +169,21 @@ struct SurfaceRayCache {
 };
 
 // Phase 2: gathers every target of `sources` (in order) into maps.unshot_next (only the
-// directions `maps` holds), adding to it. With `keep` (the true directions' pass), each
-// direction's gather plan is kept in `cache` and reused while its targets keep their shape.
-// `rotations[d]` is the rotation of PSF d, `N`, `m` the radiance-map grid. Returns, per held
-// direction, the power single precision rounded away (as gather_specular).
+// directions `maps` holds), adding to it. `rotations[d]` is the rotation of PSF d, `N`, `m` the
+// radiance-map grid. With `arrivals` (the true directions' pass of a single rank), each
+// direction's plan is kept in `cache` and reads the arrivals from then on
+// (gather_surface_arrivals), and arrivals->ready is set. Returns, per held direction, the
+// power single precision rounded away (as gather_specular).
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
-                                        const std::vector<SurfaceSources>& sources, bool keep,
-                                        SurfaceRayCache& cache, RadianceMaps& maps);
+                                        const std::vector<SurfaceSources>& sources,
+                                        SurfaceArrivals* arrivals, SurfaceRayCache& cache,
+                                        RadianceMaps& maps);
+// The same gathers by the kept plans, from arrivals.power: the same maps, bit for bit.
+std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet& dirs, int N,
+                                         const SmoothSurfaces& surfaces,
+                                         const SurfaceArrivals& arrivals, SurfaceRayCache& cache,
+                                         RadianceMaps& maps);
 
 }  // namespace vlf

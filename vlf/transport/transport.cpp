@@ -76,7 +76,9 @@ int64_t Transport::memory_bytes() const {
 }
 
 int64_t Transport::surface_plan_bytes() const {
-    int64_t b = int64_t(m_surface_plans.capacity() * sizeof(SurfacePlan));
+    int64_t b = int64_t(m_surface_plans.capacity() * sizeof(SurfacePlan) +
+                        m_arrivals.power.capacity() * sizeof(Rgb) +
+                        m_arrivals.first.capacity() * sizeof(uint64_t));
     for (const SurfacePlan& p : m_surface_plans) b += p.bytes();
     return b;
 }
@@ -184,6 +186,9 @@ void Transport::run_pass(int pass, double share) {
     const int s = m_params.supersample;
     const int Nc = m_params.field.resolution, mc = m_params.field.tile;  // radiance-map grid
     const Senders senders = find_senders(m_scene, m_tex, m_deferred, directions.send_norm);
+    // A single rank's true directions keep the smooth surfaces' gather plans; from the
+    // second cycle on, their sources are the power their rays bring (SurfaceArrivals).
+    const bool keep_arrivals = pass == 0 && !m_surfaces.empty() && m_ranks->size() == 1;
     const PassContext pc{
         .scene = m_scene,
         .dirs = m_dirs,
@@ -200,6 +205,7 @@ void Transport::run_pass(int pass, double share) {
         .share = share,
         .true_directions = pass == 0,
         .surface_plans = pass == 0 && !m_surfaces.empty() ? &m_surface_plans : nullptr,
+        .surface_arrivals = keep_arrivals ? &m_arrivals : nullptr,
         .s = s,
         .Nc = Nc,
         .mc = mc,
@@ -238,14 +244,22 @@ void Transport::run_pass(int pass, double share) {
     m_timings.passes += pass_time.seconds();
     // Then the reflected light of the pass into the mirrors' unshot maps (specular.hpp).
     const Stopwatch specular;
-    if (!sources.empty()) {
+    const bool arrived = keep_arrivals && m_arrivals.ready;
+    if (!sources.empty() || arrived) {
         // Each rank deposits into its own directions; the rounding is summed in direction
         // order across the ranks (DESIGN §5 Parallelism).
         std::vector<Rgb> rounding =
             gather_specular(m_scene, m_dirs, m_rot, Nc, mc, sources.faces, m_spec);
-        const std::vector<Rgb> smooth =
-            gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces,
-                                   pass == 0, m_surface_rays, m_spec);
+        std::vector<Rgb> smooth;
+        if (arrived) {
+            smooth = gather_surface_arrivals(m_scene, m_dirs, Nc, m_surfaces, m_arrivals,
+                                             m_surface_rays, m_spec);
+        } else {
+            if (keep_arrivals) index_arrivals(m_surface_plans, m_arrivals);
+            smooth = gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces,
+                                            sources.surfaces, keep_arrivals ? &m_arrivals : nullptr,
+                                            m_surface_rays, m_spec);
+        }
         for (size_t d = 0; d < rounding.size(); ++d) rounding[d] += smooth[d];
         Rgb sum(0.0);
         sum_in_rank_order(sum, [&](Rgb& s) {

@@ -204,6 +204,7 @@ class Transport {
     SurfaceRayCache m_surface_rays;  // their rays per direction, for the gathers
     // Per (direction, surface, side): the plans of their sources in the true directions.
     std::vector<SurfacePlan> m_surface_plans;
+    SurfaceArrivals m_arrivals;  // the power their rays bring, once the gathers keep plans
     std::vector<Pass> m_passes;  // the true directions, then each perturbation
     TextureMaps m_tex;
     RadianceMaps m_spec;                   // L_U, L_T of specular faces, own directions

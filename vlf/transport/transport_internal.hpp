@@ -194,6 +194,9 @@ struct PassContext {
     // Per (direction, smooth surface, side): the plans of its sources, kept from cycle to
     // cycle; null where they are made afresh each time (the perturbed passes).
     std::vector<SurfacePlan>* surface_plans;
+    // Where their rays' power goes once the gathers keep their plans (the true directions'
+    // pass of a single rank); null otherwise.
+    SurfaceArrivals* surface_arrivals;
     int s;       // super-sampling
     int Nc, mc;  // the radiance-map grid
     int N, m;    // the exchange grid, s times finer
