@@ -5,6 +5,7 @@
 #include "vlf/core/parallel.hpp"
 #include "vlf/field/lightmap.hpp"
 #include "vlf/field/psf.hpp"
+#include "vlf/scene/specular_turn.hpp"
 
 namespace vlf {
 
@@ -40,7 +41,9 @@ bool trace_from(const RayCaster& caster, int from, const Vec3& origin, const Vec
 // back medium along w' = refract(-t, n, eta) (eta = n_front / n_back), Fresnel's R is the
 // same both ways, and radiance crossing the interface scales by (n_front / n_back)^2
 // (docs/propagation.md §13): L = R L_reflected + (1 - R) eta^2 L_behind. A path that runs
-// inside absorbing glass keeps exp(-sigma d).
+// inside absorbing glass keeps exp(-sigma d). On a smooth mirror or glass object n is the
+// shading normal at the point (specular_turn.hpp), so a tessellated ball's resampled maps
+// show a ball's reflection, not its facets'.
 namespace {
 
 struct PathTracer {
@@ -73,20 +76,21 @@ struct PathTracer {
             value += sample_lightmap(scene.chart_of(f), radiance.data() + offset[f.chart], p);
         if (!mat.is_specular() || bounce >= max_bounces || weight < kResampleMinWeight)
             return value;
-        const double tn = glm::dot(t, f.normal);
-        if (tn <= 0.0) return value;  // leaving the back: a mirror reflects on its front only
-        const Vec3 w = 2.0 * tn * f.normal - t;
+        if (glm::dot(t, f.normal) <= 0.0) return value;  // a mirror reflects on its front only
+        // The reversed ray meets the front along -t and turns as any ray there does, about
+        // the shading normal of a smooth surface (specular_turn.hpp).
+        const SpecularTurn turn = specular_turn(scene, f, p, -t);
         if (!mat.dielectric)
-            return value + mat.specular * look(cur, p, w, nullptr,
+            return value + mat.specular * look(cur, p, turn.reflected, nullptr,
                                                weight * luminance_of(mat.specular), bounce);
         const double eta = interface_eta(f.inner, mat.ior);
-        const double R = fresnel_dielectric(tn, eta);
+        const double R = turn.R;
         // The front's medium is the glass when the face is inner.
-        value += R * look(cur, p, w, f.inner ? &mat : nullptr, weight * R, bounce);
-        Vec3 behind;
-        if (R < 1.0 && refract(-t, f.normal, eta, behind))
-            value += ((1.0 - R) * eta * eta) *
-                     look(cur, p, behind, f.inner ? nullptr : &mat, weight * (1.0 - R), bounce);
+        value += R * look(cur, p, turn.reflected, f.inner ? &mat : nullptr, weight * R, bounce);
+        if (turn.refracts)
+            value +=
+                ((1.0 - R) * eta * eta) *
+                look(cur, p, turn.refracted, f.inner ? nullptr : &mat, weight * (1.0 - R), bounce);
         return value;
     }
 
