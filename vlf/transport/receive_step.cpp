@@ -6,6 +6,7 @@
 // the unshot maps of the enclosing mirror directions (§4.2-4.3, specular.hpp).
 #include <algorithm>
 
+#include "vlf/core/error.hpp"
 #include "vlf/core/fresnel.hpp"
 #include "vlf/scene/glass.hpp"
 #include "vlf/scene/sealed_areas.hpp"
@@ -151,6 +152,22 @@ void collect_surface_rays(const PassContext& pc, const PassDirection& pd, size_t
     });
 }
 
+// The same rays' power only, once the gathers keep their plans: written where the plan of
+// (direction, surface, side) expects its rays, in collect_surface_rays' order.
+void collect_surface_power(const PassContext& pc, const PassDirection& pd, size_t f,
+                           FragRange frags, const std::vector<Rgb>& in,
+                           std::vector<uint32_t>& count, SurfaceArrivals& arrivals) {
+    const int s = pc.surfaces.of_face[f];
+    const int side = (pc.rotations[pd.d] * pc.scene.faces[f].normal).z > 0 ? 0 : 1;
+    const size_t slot = (size_t(pd.d) * size_t(pc.surfaces.size()) + size_t(s)) * 2 + size_t(side);
+    Rgb* at = arrivals.power.data() + arrivals.first[slot];
+    uint32_t& n = count[size_t(s) * 2 + size_t(side)];
+    for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+        tile.edge_table(fr).for_each_ray(
+            [&](int, int, int k) { at[n++] = in[base + uint32_t(k)]; });
+    });
+}
+
 // VLF §4.2-4.3: rho_s of what a mirror received becomes a specular source: the incoming
 // radiance over the window of its rays, gathered later into the unshot maps of the
 // directions enclosing the mirrored one (specular.hpp). At glass (docs/propagation.md §13)
@@ -254,6 +271,9 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
     const SmoothSurfaces& surfaces = pc.surfaces;
     w.surface_rays.resize(size_t(surfaces.size()) * 2);
     for (auto& v : w.surface_rays) v.clear();
+    w.arrived.assign(size_t(surfaces.size()) * 2, 0);
+    SurfaceArrivals* arrivals = pc.surface_arrivals;
+    const bool arriving = arrivals != nullptr && arrivals->ready;
     for (size_t k = 0; k < g.faces.size(); ++k) {
         const uint32_t f = g.faces[k];
         const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
@@ -262,7 +282,10 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         if (surfaces.of_face[f] >= 0) {
             // A smooth surface's rays, lit or not (the source's window is the whole surface).
             if (!mat.dielectric) res.absorbed += r.power * (Rgb(1.0) - mat.specular);
-            collect_surface_rays(pc, pd, f, frags, w.in, w.surface_rays);
+            if (arriving)
+                collect_surface_power(pc, pd, f, frags, w.in, w.arrived, *arrivals);
+            else
+                collect_surface_rays(pc, pd, f, frags, w.in, w.surface_rays);
             continue;
         }
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
@@ -276,14 +299,21 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
     }
     // The smooth surfaces' sources, surface by surface, each side (facing +z first). Their
     // plans are kept from cycle to cycle in the pass of the true directions; once the
-    // gathers keep theirs too, only the power the rays bring is written down.
+    // gathers keep theirs too, only the power the rays bring is written down (above).
     if (surfaces.empty()) return;
-    SurfaceArrivals* arrivals = pc.surface_arrivals;
-    const bool arriving = arrivals != nullptr && arrivals->ready;
-    if (!arriving) {
-        if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
-        res.sources.surfaces.back().frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
+    if (arriving) {
+        for (size_t k = 0; k < w.arrived.size(); ++k) {
+            const size_t slot = size_t(pd.d) * w.arrived.size() + k;
+            const SurfacePlan& plan = (*pc.surface_plans)[slot];
+            VLF_CHECK(plan.built && plan.rays == w.arrived[k]);
+            plan_losses(plan, arrivals->power.data() + arrivals->first[slot],
+                        res.lost.grazing_mirror);
+        }
+        return;
     }
+    if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
+    SurfaceSources& out = res.sources.surfaces.back();
+    out.frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
     for (int s = 0; s < surfaces.size(); ++s)
         for (int side = 0; side < 2; ++side) {
             const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
@@ -300,12 +330,8 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
                 const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
                 make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming, rays, plan);
             }
-            if (arriving)
-                arrive_surface_plan(pc.scene, plan, rays, res.lost.grazing_mirror,
-                                    arrivals->power.data() + arrivals->first[slot]);
-            else
-                apply_surface_plan(pc.scene, plan, keep ? uint32_t(slot) : ~0u, rays,
-                                   res.lost.grazing_mirror, res.sources.surfaces.back());
+            apply_surface_plan(plan, keep ? uint32_t(slot) : ~0u, rays, res.lost.grazing_mirror,
+                               out);
         }
 }
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <map>
-#include <utility>
+#include <tuple>
 
 #include "vlf/field/psf.hpp"
 
@@ -12,10 +12,12 @@ SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs
                                     const Coverage& coverage) {
     SmoothSurfaces s;
     s.of_face.assign(scene.faces.size(), -1);
-    std::map<std::pair<int, bool>, int> index;  // (object, inner) -> surface
+    // (object, inner, material) -> surface: one material per surface, so its turned light
+    // keeps one rho_s (an imported object may give its faces several).
+    std::map<std::tuple<int, bool, int>, int> index;
     for (const Face& f : scene.faces) {
         if (f.vertex_normals.empty() || !scene.material_of(f).is_specular()) continue;
-        const auto [at, added] = index.try_emplace({f.object, f.inner}, s.size());
+        const auto [at, added] = index.try_emplace({f.object, f.inner, f.material}, s.size());
         if (added) s.faces.emplace_back();
         s.of_face[size_t(f.id)] = at->second;
         s.faces[size_t(at->second)].push_back(f.id);

@@ -37,7 +37,8 @@ struct SmoothSurfaces {
     }
 };
 
-// Groups the smooth specular faces by (object, side) and counts their rays per direction.
+// Groups the smooth specular faces by (object, side, material) and counts their rays per
+// direction.
 SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs,
                                     const Coverage& coverage);
 

@@ -84,7 +84,7 @@ void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
             if (tri.weight[i] > 0.0 && surfaces.carried(onto, tri.index[i], tri.sense[i]) > 0)
                 sum += tri.weight[i];
         if (sum <= 0.0) {
-            plan.lost.push_back({at, frac});  // no PSF can carry it
+            plan.lost.push_back({at, power_factor(scene, rays[at].face) * frac});  // no PSF
             return;
         }
         for (int i = 0; i < 3; ++i) {
@@ -170,11 +170,10 @@ void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const Smoot
         plan_layer(scene, dirs, surfaces, surface, incoming, rays, layer, plan);
 }
 
-void apply_surface_plan(const Scene& scene, const SurfacePlan& plan, uint32_t slot,
-                        const std::vector<SurfaceRay>& rays, Rgb& lost, SurfaceSources& out) {
+void apply_surface_plan(const SurfacePlan& plan, uint32_t slot, const std::vector<SurfaceRay>& rays,
+                        Rgb& lost, SurfaceSources& out) {
     VLF_CHECK(plan.built && plan.rays == rays.size());
-    for (const auto& [ray, frac] : plan.lost)
-        lost += rays[ray].power * power_factor(scene, rays[ray].face) * frac;
+    for (const auto& [ray, part] : plan.lost) lost += rays[ray].power * part;
     const uint32_t frame = uint32_t(out.frames.size() - 1);
     for (const SurfacePlan::Target& pt : plan.targets) {
         SurfaceTarget t{frame, pt.surface, pt.direction, pt.sense, uint32_t(out.pixels.size()), 0};
@@ -189,20 +188,21 @@ void apply_surface_plan(const Scene& scene, const SurfacePlan& plan, uint32_t sl
     }
 }
 
-void index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals) {
+bool index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals) {
+    arrivals.ready = false;
     arrivals.first.assign(plans.size() + 1, 0);
     for (size_t k = 0; k < plans.size(); ++k)
         arrivals.first[k + 1] = arrivals.first[k] + plans[k].rays;
+    if (arrivals.first.back() > std::numeric_limits<uint32_t>::max()) {
+        arrivals = SurfaceArrivals{};
+        return false;
+    }
     arrivals.power.assign(arrivals.first.back(), Rgb(0.0));
-    arrivals.ready = false;
+    return true;
 }
 
-void arrive_surface_plan(const Scene& scene, const SurfacePlan& plan,
-                         const std::vector<SurfaceRay>& rays, Rgb& lost, Rgb* at) {
-    VLF_CHECK(plan.built && plan.rays == rays.size());
-    for (const auto& [ray, frac] : plan.lost)
-        lost += rays[ray].power * power_factor(scene, rays[ray].face) * frac;
-    for (size_t k = 0; k < rays.size(); ++k) at[k] = rays[k].power;
+void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost) {
+    for (const auto& [ray, part] : plan.lost) lost += power[ray] * part;
 }
 
 int64_t SurfacePlan::bytes() const {
@@ -354,6 +354,24 @@ void plan_gather(const Scene& scene, const SurfaceFrame& src, const SurfaceTarge
 template <class Power>
 void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherEntry* e0,
                   const GatherEntry* e1, const Rgb& factor, double beam, std::vector<Rgb>& acc) {
+    if (n == 1) {  // most targets: the pattern is the entries' weights
+        const Rgb value = power(0) * p[0].part;
+        const Rgb target = value * factor;
+        if (target.x <= 0 && target.y <= 0 && target.z <= 0) return;
+        double weights = 0.0;
+        for (const GatherEntry* g = e0; g != e1; ++g) weights += double(g->weight);
+        for (int c = 0; c < 3; ++c) {
+            if (target[c] <= 0.0) continue;
+            if (weights <= 0.0) {
+                acc[size_t(p[0].nearest)][c] += target[c] / beam;
+                continue;
+            }
+            const double scale = target[c] / (weights * beam);
+            for (const GatherEntry* g = e0; g != e1; ++g)
+                acc[size_t(g->ray)][c] += double(g->weight) * scale;
+        }
+        return;
+    }
     constexpr uint32_t kSmall = 16;
     Rgb small[kSmall];
     std::vector<Rgb> large;
@@ -395,7 +413,11 @@ void plan_target(const Scene& scene, const SurfaceFrame& src, const SurfaceTarge
     plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
     plan.entry_begin.push_back(uint32_t(e0));
     plan_gather(scene, src, t, px, rot, N, rays, plan.entries);
-    std::vector<uint8_t> taken(n, 0);
+    constexpr uint32_t kSmall = 64;
+    uint8_t small[kSmall] = {};
+    std::vector<uint8_t> large;
+    uint8_t* taken = small;
+    if (n > kSmall) large.assign(n, 0), taken = large.data();
     for (size_t e = e0; e < plan.entries.size(); ++e) taken[plan.entries[e].pixel] = 1;
     for (uint32_t e = 0; e < n; ++e) {
         const SurfacePixel& q = px[e];
@@ -406,7 +428,7 @@ void plan_target(const Scene& scene, const SurfaceFrame& src, const SurfaceTarge
                                    2.0 * (q.j + 0.5) / src.resolution - 1.0, double(q.depth)));
             nearest = int32_t(nearest_ray(rays, rot, N, x));
         }
-        const uint64_t arrival = first != nullptr ? (*first)[q.plan] + q.ray : 0;
+        const uint32_t arrival = first != nullptr ? uint32_t((*first)[q.plan] + q.ray) : 0;
         plan.pixels.push_back({arrival, nearest, q.part});
     }
 }

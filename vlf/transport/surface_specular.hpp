@@ -95,8 +95,8 @@ struct SurfacePlan {
     };
     std::vector<Target> targets;
     std::vector<Pixel> pixels;
-    std::vector<std::pair<uint32_t, double>> lost;  // rays' parts that no PSF can carry
-    uint32_t rays = 0;                              // the rays it was made from
+    std::vector<std::pair<uint32_t, Rgb>> lost;  // rays' parts that no PSF can carry
+    uint32_t rays = 0;                           // the rays it was made from
     bool built = false;
     int64_t bytes() const;
 };
@@ -110,8 +110,8 @@ void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const Smoot
 // (the rays it was made from), in the PSF of out.frames.back(); adds to `lost` the power no
 // PSF can carry. Every target of the plan is appended, lit or not, so a pass's sources have
 // the same shape every cycle.
-void apply_surface_plan(const Scene& scene, const SurfacePlan& plan, uint32_t slot,
-                        const std::vector<SurfaceRay>& rays, Rgb& lost, SurfaceSources& out);
+void apply_surface_plan(const SurfacePlan& plan, uint32_t slot, const std::vector<SurfaceRay>& rays,
+                        Rgb& lost, SurfaceSources& out);
 
 // Where the power of the smooth surfaces' rays arrives once the plans are kept (the true
 // directions' pass of a single rank, from its second cycle on): per plan slot, its rays'
@@ -122,12 +122,12 @@ struct SurfaceArrivals {
     std::vector<Rgb> power;
     bool ready = false;  // the gathers' plans are kept and read `power`
 };
-// `first` from the plans' ray counts.
-void index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals);
-// Writes the power `rays` bring into `at` (the plan's rays), adds to `lost` what no PSF can
-// carry.
-void arrive_surface_plan(const Scene& scene, const SurfacePlan& plan,
-                         const std::vector<SurfaceRay>& rays, Rgb& lost, Rgb* at);
+// `first` from the plans' ray counts; false (and nothing kept) where they are more than a
+// 32-bit index reaches.
+bool index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals);
+// Adds to `lost` what of the power the plan's rays bring (`power`, in its rays' order) no PSF
+// can carry.
+void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost);
 
 SurfaceFrame surface_frame(const Mat3& rotation, int N);
 
@@ -139,7 +139,7 @@ struct GatherEntry {
 };
 // A sending pixel as the gather sees it.
 struct GatherPixel {
-    uint64_t arrival;  // its power in SurfaceArrivals::power (kept plans)
+    uint32_t arrival;  // its power in SurfaceArrivals::power (kept plans)
     int32_t nearest;   // the target ray nearest its point, where no entry takes its value
     double part;
 };

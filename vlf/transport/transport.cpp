@@ -255,10 +255,10 @@ void Transport::run_pass(int pass, double share) {
             smooth = gather_surface_arrivals(m_scene, m_dirs, Nc, m_surfaces, m_arrivals,
                                              m_surface_rays, m_spec);
         } else {
-            if (keep_arrivals) index_arrivals(m_surface_plans, m_arrivals);
-            smooth = gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces,
-                                            sources.surfaces, keep_arrivals ? &m_arrivals : nullptr,
-                                            m_surface_rays, m_spec);
+            const bool keep = keep_arrivals && index_arrivals(m_surface_plans, m_arrivals);
+            smooth =
+                gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces,
+                                       keep ? &m_arrivals : nullptr, m_surface_rays, m_spec);
         }
         for (size_t d = 0; d < rounding.size(); ++d) rounding[d] += smooth[d];
         Rgb sum(0.0);

@@ -113,6 +113,7 @@ struct Scratch {
     std::vector<uint32_t> slot_face;                      // attenuate_step: per slot, its face
     std::vector<std::vector<SurfaceRay>> surface_rays;    // receive_step: per (surface, side)
     SurfacePlan surface_plan;                             // receive_step: one not kept
+    std::vector<uint32_t> arrived;  // receive_step: per (surface, side), rays written down
 };
 
 // What one chunk of directions adds to the pass; reduced in chunk order.
