@@ -326,7 +326,7 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
                     lit |= r.power.x > 0 || r.power.y > 0 || r.power.z > 0;
                 if (!lit) continue;  // (a kept plan's targets are sent lit or not)
             }
-            if (!keep || !plan.built || plan.rays != rays.size()) {
+            if (!keep || !plan.built || plan.stripped || plan.rays != rays.size()) {
                 const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
                 make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming, rays, plan);
             }

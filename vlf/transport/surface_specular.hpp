@@ -98,7 +98,14 @@ struct SurfacePlan {
     std::vector<std::pair<uint32_t, Rgb>> lost;  // rays' parts that no PSF can carry
     uint32_t rays = 0;                           // the rays it was made from
     bool built = false;
+    bool stripped = false;  // its targets dropped: the gathers keep their own plans now
     int64_t bytes() const;
+    // Drops the targets once the gathers read arrivals (the losses and the ray count stay).
+    void strip() {
+        targets = {};
+        pixels = {};
+        stripped = true;
+    }
 };
 
 // Makes the plan of the rays `rays` (all of one surface, met by light travelling along
