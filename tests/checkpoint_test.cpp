@@ -98,6 +98,22 @@ TEST(Checkpoint, ResumedRunHasTheMapsOfAnUninterruptedOne) {
     }
 }
 
+// Smooth glass (surface_specular.hpp): an uninterrupted run gathers from sources in cycle 1
+// and from arrivals through the kept plans after it; a run resumed after cycle 2 makes its
+// plans afresh and gathers from sources in cycle 3. The maps must be the same bit for bit:
+// both ways are one arithmetic.
+TEST(Checkpoint, SmoothGlassGathersFromSourcesAndFromArrivalsAlike) {
+    const Scene scene = test_scene("tests/scenes/glass-room.json");
+    PropagateParams p = test::params(129, 32, 8, 4, true);
+    p.perturbations = 1;
+    p.perturb_cycles = 1;
+    p.filter_sigma = 0.7;
+    const Propagation straight = propagate(scene, p, {});
+    test::TempDir dir("checkpoint_glass");
+    const Propagation resumed = stopped_and_resumed(scene, p, dir.path.string(), 2);
+    expect_same_state(*straight.transport, *resumed.transport);
+}
+
 // Point and spot lights shoot in cycle 1; their share of P^N is added at
 // the end of the cycle. Thread count and cache budget are not part of the key.
 TEST(Checkpoint, ResumesAfterTheLightsFirstShot) {
