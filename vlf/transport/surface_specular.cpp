@@ -397,9 +397,15 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
         // No target ray's centre lies in the footprints of the pixels that send this
         // channel, on their sheet (the footprints are smaller than the target's rays there):
         // each pixel's share goes to the target ray nearest its point. Energy stays exact.
-        for (uint32_t e = 0; e < n; ++e)
-            if (value[e][c] > 0.0)
-                acc[size_t(p[e].nearest)][c] += target[c] * (value[e][c] / sum[c]) / beam;
+        for (uint32_t e = 0; e < n; ++e) {
+            if (!(value[e][c] > 0.0)) continue;
+            // (A pixel that entries take has no nearest ray; its value reaches here only
+            // where value times weight underflows: its first entry's ray takes it.)
+            int32_t at = p[e].nearest;
+            for (const GatherEntry* g = e0; at < 0 && g != e1; ++g)
+                if (g->pixel == e) at = g->ray;
+            acc[size_t(at)][c] += target[c] * (value[e][c] / sum[c]) / beam;
+        }
     }
 }
 
