@@ -287,7 +287,8 @@ int main(int argc, char** argv) {
                  "Store L_T of every fragment in the bake, not only specular ones");
     app.add_option("--cache-budget", o.params.cache_budget_mib,
                    "MiB of per-direction geometry kept across cycles (0 = rebuild every "
-                   "cycle: least memory); speed and memory only, the bake is the same")
+                   "cycle and keep no smooth-surface plans: least memory); speed and memory "
+                   "only, the bake is the same")
         ->capture_default_str();
     app.add_option("--seed", o.params.seed, "Seed of the perturbation streams")
         ->capture_default_str();

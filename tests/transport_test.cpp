@@ -566,6 +566,21 @@ TEST(TransportDeterminism, CacheBudgetDoesNotChangeTheMaps) {
     expect_same_maps(*all, *some);
 }
 
+// The smooth surfaces' plans (surface_specular.hpp) are kept like the geometry: with no
+// budget nothing is kept and every cycle gathers from sources; the maps are bit-identical.
+TEST(TransportDeterminism, KeptSmoothSurfacePlansDoNotChangeTheMaps) {
+    const Scene scene = test_scene("glass-room.json");
+    PropagateParams p = params(129, 32, 8, 3, true);
+    p.perturbations = 1;
+    p.filter_sigma = 0.7;
+    const std::unique_ptr<Transport> kept = run_transport(scene, p);
+    EXPECT_GT(kept->surface_plan_bytes(), 0);
+    p.cache_budget_mib = 0;
+    const std::unique_ptr<Transport> none = run_transport(scene, p);
+    EXPECT_EQ(none->surface_plan_bytes(), 0);
+    expect_same_maps(*kept, *none);
+}
+
 // In the last cycle that perturbs, a perturbed pass clips only the rays that carry power
 // (the senders' and their partners'); the maps are those of a fully clipped pass, and the
 // perturbed geometry is released after that cycle.

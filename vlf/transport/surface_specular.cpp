@@ -215,6 +215,11 @@ int64_t SurfaceRayCache::bytes() const {
     for (const SurfaceRays& r : rays)
         b += int64_t(r.rays.capacity() * sizeof(SurfaceRays::Ray) +
                      (r.head.capacity() + r.next.capacity()) * sizeof(int32_t));
+    return b;
+}
+
+int64_t SurfaceRayCache::plan_bytes() const {
+    int64_t b = 0;
     for (const SurfaceGatherPlan& g : gathers)
         b += int64_t(g.groups.capacity() * sizeof(SurfaceGatherPlan::Group) +
                      (g.pixel_begin.capacity() + g.entry_begin.capacity()) * sizeof(uint32_t) +

@@ -172,7 +172,8 @@ struct SurfaceRayCache {
     std::vector<SurfaceRays> rays;  // (surface * directions + d) * 2 + (sense > 0 ? 0 : 1)
     std::vector<uint8_t> built;
     std::vector<SurfaceGatherPlan> gathers;  // per direction
-    int64_t bytes() const;
+    int64_t bytes() const;                   // the rays
+    int64_t plan_bytes() const;              // the gathers' plans
 };
 
 // Phase 2: gathers every target of `sources` (in order) into maps.unshot_next (only the

@@ -76,9 +76,10 @@ int64_t Transport::memory_bytes() const {
 }
 
 int64_t Transport::surface_plan_bytes() const {
-    int64_t b = int64_t(m_surface_plans.capacity() * sizeof(SurfacePlan) +
-                        m_arrivals.power.capacity() * sizeof(Rgb) +
-                        m_arrivals.first.capacity() * sizeof(uint64_t));
+    int64_t b = m_surface_rays.plan_bytes();
+    b += int64_t(m_surface_plans.size() * sizeof(SurfacePlan) +
+                 m_arrivals.power.capacity() * sizeof(Rgb) +
+                 m_arrivals.first.capacity() * sizeof(uint64_t));
     for (const SurfacePlan& p : m_surface_plans) b += p.bytes();
     return b;
 }
@@ -188,29 +189,30 @@ void Transport::run_pass(int pass, double share) {
     const Senders senders = find_senders(m_scene, m_tex, m_deferred, directions.send_norm);
     // A single rank's true directions keep the smooth surfaces' gather plans; from the
     // second cycle on, their sources are the power their rays bring (SurfaceArrivals).
-    const bool keep_arrivals = pass == 0 && !m_surfaces.empty() && m_ranks->size() == 1;
-    const PassContext pc{
-        .scene = m_scene,
-        .dirs = m_dirs,
-        .coverage = m_coverage,
-        .surfaces = m_surfaces,
-        .charts = directions.charts,
-        .record_charts = !directions.norms_known,
-        .tex = m_tex,
-        .spec = m_spec,
-        .other = m_other,
-        .rotations = directions.rotations,
-        .send_norm = directions.send_norm,
-        .senders = senders,
-        .share = share,
-        .true_directions = pass == 0,
-        .surface_plans = pass == 0 && !m_surfaces.empty() ? &m_surface_plans : nullptr,
-        .surface_arrivals = keep_arrivals ? &m_arrivals : nullptr,
-        .s = s,
-        .Nc = Nc,
-        .mc = mc,
-        .N = Nc * s,
-        .m = mc * s};
+    // Like the geometry, they are kept only with a cache budget (0: least memory).
+    const bool keep_plans = pass == 0 && !m_surfaces.empty() && m_params.cache_budget_mib > 0;
+    const bool keep_arrivals = keep_plans && m_ranks->size() == 1;
+    const PassContext pc{.scene = m_scene,
+                         .dirs = m_dirs,
+                         .coverage = m_coverage,
+                         .surfaces = m_surfaces,
+                         .charts = directions.charts,
+                         .record_charts = !directions.norms_known,
+                         .tex = m_tex,
+                         .spec = m_spec,
+                         .other = m_other,
+                         .rotations = directions.rotations,
+                         .send_norm = directions.send_norm,
+                         .senders = senders,
+                         .share = share,
+                         .true_directions = pass == 0,
+                         .surface_plans = keep_plans ? &m_surface_plans : nullptr,
+                         .surface_arrivals = keep_arrivals ? &m_arrivals : nullptr,
+                         .s = s,
+                         .Nc = Nc,
+                         .mc = mc,
+                         .N = Nc * s,
+                         .m = mc * s};
     // Geometry is kept across cycles while it fits the budget; the rest is rebuilt each
     // cycle (identical either way, so the budget never changes a map). A perturbed pass's
     // geometry is not worth keeping in the last cycle that perturbs: it clips only the rays

@@ -135,6 +135,9 @@ class Transport {
     int64_t geometry_cache_bytes() const;
     // Directions whose geometry is kept across cycles (within params().cache_budget_mib).
     int cached_directions() const;
+    // The smooth surfaces' plans kept across cycles (none when cache_budget_mib is 0) and the
+    // arrivals they read (surface_specular.hpp).
+    int64_t surface_plan_bytes() const;
     // Charts deferred in the last cycle run (VLF §4.5).
     const std::vector<uint8_t>& deferred() const { return m_deferred; }
     // Ledger values are kept in normalised units internally; this converts a power to
@@ -193,7 +196,6 @@ class Transport {
     void swap_maps(Rgb& unshot, Rgb& deferred);
     // After the last cycle that perturbs: the perturbed passes' geometry is not needed.
     void release_perturbed_geometry();
-    int64_t surface_plan_bytes() const;
 
     const Scene& m_scene;
     PropagateParams m_params;

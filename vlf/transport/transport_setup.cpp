@@ -142,7 +142,8 @@ Transport::Transport(const Scene& scene, const PropagateParams& params, Ranks& r
     m_coverage =
         measure_coverage(scene, m_rot, params.field.resolution, params.field.tile, measured);
     m_surfaces = find_smooth_surfaces(scene, m_dirs, m_coverage);
-    m_surface_plans.resize(size_t(m_dirs.size()) * size_t(m_surfaces.size()) * 2);
+    if (params.cache_budget_mib > 0)  // (kept only with a cache budget, as the geometry)
+        m_surface_plans.resize(size_t(m_dirs.size()) * size_t(m_surfaces.size()) * 2);
     m_passes.resize(size_t(params.perturbations) + 1);
     for (int p = 0; p <= params.perturbations; ++p) m_passes[p] = make_pass(p);
     m_tex = TextureMaps(scene);
