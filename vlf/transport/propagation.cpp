@@ -195,6 +195,7 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
                              {"radiance_maps", t.specular_maps().bytes() + t.other_maps().bytes()},
                              {"coverage", t.coverage().bytes()},
                              {"geometry_cache", t.geometry_cache_bytes()},
+                             {"smooth_surface_plans", t.surface_plan_bytes()},
                              {"transport_total", t.memory_bytes()},
                              {"peak_rss", peak_rss_bytes()}};
     nlohmann::json report = {{"parameters", to_json(params)},
