@@ -2,21 +2,24 @@
 // direction (smooth_surfaces.hpp; docs/propagation.md §13 "Smooth surfaces turn ray by ray,
 // as one source").
 //
-// In a pass's direction d, every ray of a smooth surface that receives light turns about the
-// shading normal at its point (specular_turn.hpp): at a mirror rho_s of its power is
-// reflected, at glass R of it is reflected and 1 - R refracted into the twin surface. Each
-// turned direction's power goes to the three PSF directions enclosing it, by barycentric
-// weight (VLF §4.2), on the surface that carries it (the reflecting one, or the twin). Per
-// target (surface, direction, sense) the source keeps the power to deposit and the pixels
-// that send it: each with its radiance times its part, the depth of its point along d, its
-// face, and which pixels around it the surface covers.
+// In a pass's direction d, every ray of a smooth surface turns about the shading normal at
+// its point (specular_turn.hpp): at a mirror rho_s of its power is reflected, at glass R of
+// it is reflected and 1 - R refracted into the twin surface. Each turned direction's power
+// goes to the three PSF directions enclosing it, by barycentric weight (VLF §4.2), on the
+// surface that carries it (the reflecting one, or the twin). Per target (surface,
+// direction, sense) the source holds the pixels that send to it: each with the power its
+// ray brings and the part of it that goes there, the depth of its point along d, its face,
+// and which pixels around it the surface covers. That turn is geometry: it is made once per
+// direction as a plan (SurfacePlan) and applied to the power the rays bring each cycle.
 //
 // The gather (phase 2, one task per target direction) is the backward mapping of VLF §4.3:
 // every ray of the target surface whose centre lies in the sending pixels' footprints is
 // projected back into the source PSF; where it lands on a sending pixel on the same sheet of
-// the surface (the depths agree) it takes that pixel's value, and the pattern is scaled so
-// the target receives exactly its power, channel by channel (DESIGN §5). Targets are taken
-// in source order, so the maps do not depend on the thread or rank count.
+// the surface (the depths agree) it takes that pixel's value (power times part), and the
+// pattern is scaled so the target receives exactly its power, channel by channel (DESIGN
+// §5). Targets are taken in source order, so the maps do not depend on the thread or rank
+// count. The mapping is geometry too: kept per direction (SurfaceGatherPlan), it reads the
+// rays' power from SurfaceArrivals from the second cycle on, with the same arithmetic.
 #pragma once
 
 #include <array>
