@@ -161,10 +161,13 @@ void collect_surface_power(const PassContext& pc, const PassDirection& pd, size_
     const int side = (pc.rotations[pd.d] * pc.scene.faces[f].normal).z > 0 ? 0 : 1;
     const size_t slot = (size_t(pd.d) * size_t(pc.surfaces.size()) + size_t(s)) * 2 + size_t(side);
     Rgb* at = arrivals.power.data() + arrivals.first[slot];
+    const uint64_t room = arrivals.first[slot + 1] - arrivals.first[slot];
     uint32_t& n = count[size_t(s) * 2 + size_t(side)];
     for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-        tile.edge_table(fr).for_each_ray(
-            [&](int, int, int k) { at[n++] = in[base + uint32_t(k)]; });
+        tile.edge_table(fr).for_each_ray([&](int, int, int k) {
+            VLF_CHECK(n < room);  // the plan was made from these very rays
+            at[n++] = in[base + uint32_t(k)];
+        });
     });
 }
 
