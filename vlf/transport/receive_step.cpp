@@ -159,7 +159,7 @@ void collect_surface_power(const PassContext& pc, const PassDirection& pd, size_
                            std::vector<uint32_t>& count, SurfaceArrivals& arrivals) {
     const int s = pc.surfaces.of_face[f];
     const int side = (pc.rotations[pd.d] * pc.scene.faces[f].normal).z > 0 ? 0 : 1;
-    const size_t slot = (size_t(pd.d) * size_t(pc.surfaces.size()) + size_t(s)) * 2 + size_t(side);
+    const size_t slot = pc.surfaces.pass_slot(pd.d, s, side);
     Rgb* at = arrivals.power.data() + arrivals.first[slot];
     const uint64_t room = arrivals.first[slot + 1] - arrivals.first[slot];
     uint32_t& n = count[size_t(s) * 2 + size_t(side)];
@@ -306,7 +306,7 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
     if (surfaces.empty()) return;
     if (arriving) {
         for (size_t k = 0; k < w.arrived.size(); ++k) {
-            const size_t slot = size_t(pd.d) * w.arrived.size() + k;
+            const size_t slot = surfaces.pass_slot(pd.d, int(k / 2), int(k % 2));
             const SurfacePlan& plan = (*pc.surface_plans)[slot];
             VLF_CHECK(plan.built && plan.rays == w.arrived[k]);
             plan_losses(plan, arrivals->power.data() + arrivals->first[slot],
@@ -320,7 +320,7 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
     for (int s = 0; s < surfaces.size(); ++s)
         for (int side = 0; side < 2; ++side) {
             const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
-            const size_t slot = (size_t(pd.d) * size_t(surfaces.size()) + size_t(s)) * 2 + side;
+            const size_t slot = surfaces.pass_slot(pd.d, s, side);
             const bool keep = pc.surface_plans != nullptr;
             SurfacePlan& plan = keep ? (*pc.surface_plans)[slot] : w.surface_plan;
             if (!keep) {

@@ -30,8 +30,7 @@ SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs
             for (int f : s.faces[size_t(k)]) {
                 const double c = glm::dot(scene.faces[size_t(f)].normal, omega);
                 if (c == 0.0) continue;
-                s.rays[(size_t(k) * size_t(s.directions) + size_t(d)) * 2 + (c > 0 ? 0 : 1)] +=
-                    coverage(d, f);
+                s.rays[s.slot(k, d, c > 0 ? 1 : -1)] += coverage(d, f);
             }
         }
     return s;

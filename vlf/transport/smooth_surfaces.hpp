@@ -31,10 +31,17 @@ struct SmoothSurfaces {
 
     int size() const { return int(faces.size()); }
     bool empty() const { return faces.empty(); }
-    // Rays that can carry light leaving `surface` along travel direction sense * omega_d.
-    uint32_t carried(int surface, int d, int sense) const {
-        return rays[(size_t(surface) * size_t(directions) + size_t(d)) * 2 + (sense > 0 ? 0 : 1)];
+    // Where (surface, direction d, sense) is kept in per-(surface, direction, sense) arrays.
+    size_t slot(int surface, int d, int sense) const {
+        return (size_t(surface) * size_t(directions) + size_t(d)) * 2 + (sense > 0 ? 0 : 1);
     }
+    // Where (direction d, surface, side) is kept in a pass's per-(direction, surface, side)
+    // arrays (side 0: facing +z of PSF d, 1: facing -z), direction by direction.
+    size_t pass_slot(int d, int surface, int side) const {
+        return (size_t(d) * faces.size() + size_t(surface)) * 2 + size_t(side);
+    }
+    // Rays that can carry light leaving `surface` along travel direction sense * omega_d.
+    uint32_t carried(int surface, int d, int sense) const { return rays[slot(surface, d, sense)]; }
 };
 
 // Groups the smooth specular faces by (object, side, material) and counts their rays per

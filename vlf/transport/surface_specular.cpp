@@ -463,8 +463,7 @@ void deposit(const std::vector<Rgb>& acc, const SurfaceRays& rays, int d, double
 SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
                      const Mat3& rot, int N, int m, int surface, int d, int sense,
                      SurfaceRayCache& cache) {
-    const size_t slot =
-        (size_t(surface) * size_t(dirs.size()) + size_t(d)) * 2 + (sense > 0 ? 0 : 1);
+    const size_t slot = surfaces.slot(surface, d, sense);
     SurfaceRays& rays = cache.rays[slot];
     if (!cache.built[slot]) {
         surface_rays(scene, surfaces, surface, rot, dirs.direction(d) * double(sense), N, m, rays);
@@ -586,8 +585,7 @@ std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet&
         if (plan.groups.empty()) return;
         std::vector<SurfaceRays*> group_rays;
         for (const SurfaceGatherPlan::Group& g : plan.groups) {
-            const size_t slot =
-                (size_t(g.surface) * size_t(dirs.size()) + size_t(d)) * 2 + (g.sense > 0 ? 0 : 1);
+            const size_t slot = surfaces.slot(g.surface, int(d), g.sense);
             group_rays.push_back(&cache.rays[slot]);
         }
         rounding[size_t(d - maps.first)] = run_plan(
