@@ -5,6 +5,8 @@
 // geometry.bin. Suites: RenderGlass (rendering), SceneSmooth (loading), BakeSmooth (the bake).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -15,6 +17,7 @@
 #include "vlf/bake/scene_json.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/core/fresnel.hpp"
+#include "vlf/core/rotation.hpp"
 #include "vlf/render/render.hpp"
 #include "vlf/scene/scene_loader.hpp"
 
@@ -224,6 +227,129 @@ TEST(RenderGlass, SmoothSphereMirrorReflectsAboutTheSphereNormal) {
             EXPECT_LT(glm::length(seen - true_sphere), 0.1 * glm::length(other - true_sphere));
         }
     }
+}
+
+// Rays mode reads a smooth surface's light from the rays of the whole surface around a point,
+// not of its facet only (render.cpp Impl::sample; docs/rendering.md §6.1). A smooth mirror
+// of two parallel sheets, y = 0 over 0 <= x, z <= 1 and y = -0.3 over 0 <= x <= 2, cut into
+// triangles narrower than a ray (1/30 against rays 0.038 apart): its stored rays are written
+// by hand, each sample the value of a linear function of where the ray meets the sheet (the
+// upper sheet's, and 10 more on the lower). Bilinear interpolation reproduces a linear
+// function exactly, so rays mode must give the function at every point seen farther than
+// three rays from a sheet's rim, to float precision: with a facet's own rays it gives a
+// patchwork of the few rays each facet has (and, where a facet has none, the traced
+// mirror's black), and taking the rays of the wrong sheet adds 10. Texture mode traces a
+// smooth mirror (VLF §6.2 by §6.3): it gives what raytrace mode gives.
+TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
+    test::TempDir dir("smooth_sheets");
+    std::string obj;
+    const int cells = 30;
+    int vertices = 0;
+    auto sheet = [&](double y, int columns) {
+        for (int a = 0; a < columns; ++a)
+            for (int c = 0; c < cells; ++c) {
+                const double x0 = double(a) / cells, x1 = double(a + 1) / cells;
+                const double z0 = double(c) / cells, z1 = double(c + 1) / cells;
+                obj += fmt::format("v {} {} {}\nv {} {} {}\nv {} {} {}\nv {} {} {}\n", x0, y, z0,
+                                   x0, y, z1, x1, y, z0, x1, y, z1);
+                const int v = vertices + 1;
+                // Counter-clockwise seen from +y: the faces look up.
+                obj += fmt::format("f {0}//1 {1}//1 {2}//1\nf {2}//1 {1}//1 {3}//1\n", v, v + 1,
+                                   v + 2, v + 3);
+                vertices += 4;
+            }
+    };
+    obj += "vn 0 1 0\n";
+    sheet(0.0, cells);
+    sheet(-0.3, 2 * cells);
+    dir.write("sheets.obj", obj);
+    const Scene s = load_scene_from_string(
+        R"({"materials": {"mirror": {"specular": [1, 1, 1]}, "lamp": {"emission": [1, 1, 1]}},
+            "objects": [{"type": "mesh", "file": "sheets.obj", "material": "mirror"},
+                        {"type": "polygon", "material": "lamp",
+                         "vertices": [[0, 1.8, 0], [2, 1.8, 0], [2, 1.8, 1], [0, 1.8, 1]]}]})",
+        "sheets.json", dir.path.string());
+    const Normalisation& nm = s.normalisation;
+    auto value = [](const Vec3& p) {  // p in user units
+        const Rgb f(1.0 + p.x, 2.0 + p.z, 3.0 + p.x + 2.0 * p.z);
+        return p.y > -0.15 ? f : f + Rgb(10.0);
+    };
+    Bake b = test::scene_only_bake(s);
+    const int l = 33, N = 80;
+    b.directions = DirectionSet(l);
+    RayImages& rays = b.rays;
+    rays.directions = l;
+    rays.resolution = N;
+    rays.tile = 4;
+    rays.pixel_offset.assign(1, 0);
+    const int mirror = material_index(s, "mirror");
+    for (int d = 0; d < l; ++d) {
+        const Mat3 R = rotation_to_z(b.directions.direction(d));
+        // Per pixel of PSF d, its samples in ascending face order: each mirror face is
+        // rasterised at the pixel centres inside it.
+        std::vector<std::vector<std::pair<int, Rgb>>> pixels(size_t(N) * N);
+        for (const Face& f : s.faces) {
+            const Vec3 n = R * f.normal;
+            if (f.material != mirror || n.z == 0.0) continue;
+            const Vec3 v[3] = {R * f.vertices[0], R * f.vertices[1], R * f.vertices[2]};
+            auto pixel = [&](double q) { return (q + 1.0) * N * 0.5 - 0.5; };
+            const double lo_x = std::min({v[0].x, v[1].x, v[2].x}),
+                         hi_x = std::max({v[0].x, v[1].x, v[2].x});
+            const double lo_y = std::min({v[0].y, v[1].y, v[2].y}),
+                         hi_y = std::max({v[0].y, v[1].y, v[2].y});
+            for (int j = std::max(0, int(std::ceil(pixel(lo_y))));
+                 j <= std::min(N - 1, int(std::floor(pixel(hi_y)))); ++j)
+                for (int i = std::max(0, int(std::ceil(pixel(lo_x))));
+                     i <= std::min(N - 1, int(std::floor(pixel(hi_x)))); ++i) {
+                    const double px = (2.0 * i + 1.0) / N - 1.0, py = (2.0 * j + 1.0) / N - 1.0;
+                    auto edge = [&](const Vec3& a, const Vec3& c) {
+                        return (c.x - a.x) * (py - a.y) - (c.y - a.y) * (px - a.x);
+                    };
+                    const double e0 = edge(v[0], v[1]), e1 = edge(v[1], v[2]),
+                                 e2 = edge(v[2], v[0]);
+                    if (!((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)))
+                        continue;
+                    const double depth = (f.plane_offset - n.x * px - n.y * py) / n.z;
+                    const Vec3 at = nm.to_user(glm::transpose(R) * Vec3(px, py, depth));
+                    pixels[size_t(j) * N + size_t(i)].emplace_back(f.id, value(at));
+                }
+        }
+        for (const auto& samples : pixels) {
+            for (const auto& [face, L] : samples) {
+                rays.face.push_back(face);
+                rays.radiance.push_back(RgbF(L));
+            }
+            rays.pixel_offset.push_back(rays.face.size());
+        }
+    }
+    const Renderer r(b);
+    // Points seen from an eye above, at least three rays in from every rim of their sheet.
+    const double margin = 3.0 * (2.0 / N) / nm.scale;
+    ASSERT_LT(margin, 0.15);
+    const Vec3 eye(1.0, 1.5, 0.5);
+    std::vector<PrimaryRay> primary;
+    std::vector<Rgb> expect;
+    for (int a = 0; a <= 40; ++a)
+        for (int c = 0; c <= 20; ++c) {
+            const double x = 0.15 + (2.0 - 0.3) * a / 40.0, z = 0.15 + 0.7 * c / 20.0;
+            const Vec3 p(x, x < 1.0 ? 0.0 : -0.3, z);
+            if (x > 1.0 - margin && x < 1.0 + margin) continue;
+            primary.push_back({nm.to_normalised(eye), glm::normalize(p - eye)});
+            expect.push_back(value(p));
+        }
+    RenderSettings rs;
+    rs.mode = RenderMode::Rays;
+    const std::vector<Rgb> got = r.shade(primary, rs);
+    double worst = 0.0;
+    for (size_t k = 0; k < got.size(); ++k)
+        for (int ch = 0; ch < 3; ++ch)
+            worst = std::max(worst, std::abs(got[k][ch] / expect[k][ch] - 1.0));
+    EXPECT_LT(worst, 1e-5) << "of " << got.size() << " points";
+    rs.mode = RenderMode::Texture;
+    const std::vector<Rgb> texture = r.shade(primary, rs);
+    rs.mode = RenderMode::Raytrace;
+    const std::vector<Rgb> traced = r.shade(primary, rs);
+    for (size_t k = 0; k < got.size(); ++k) ASSERT_EQ(texture[k], traced[k]) << k;
 }
 
 // ---- loading ------------------------------------------------------------------------------

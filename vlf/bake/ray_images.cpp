@@ -10,11 +10,19 @@
 
 namespace vlf {
 
-bool RayImages::lookup(int d, int i, int j, int face_id, RgbF& out) const {
+bool RayImages::samples(int d, int i, int j, uint64_t& begin, uint64_t& end) const {
     if (d < 0 || d >= directions || i < 0 || j < 0 || i >= resolution || j >= resolution)
         return false;
     const size_t p = (size_t(d) * resolution + size_t(j)) * resolution + size_t(i);
-    for (uint64_t k = pixel_offset[p]; k < pixel_offset[p + 1]; ++k)
+    begin = pixel_offset[p];
+    end = pixel_offset[p + 1];
+    return true;
+}
+
+bool RayImages::lookup(int d, int i, int j, int face_id, RgbF& out) const {
+    uint64_t b = 0, e = 0;
+    if (!samples(d, i, j, b, e)) return false;
+    for (uint64_t k = b; k < e; ++k)
         if (face[k] == face_id) {
             out = radiance[k];
             return true;

@@ -28,6 +28,9 @@ struct RayImages {
     std::vector<RgbF> radiance;  // L_T, W m^-2 sr^-1, travelling along the face's front sense
     // Radiance of `face` on ray (d, i, j); false when the ray holds no sample of that face.
     bool lookup(int d, int i, int j, int face, RgbF& out) const;
+    // The samples of ray (d, i, j) are [begin, end) of face/radiance; false (and nothing
+    // set) outside the images.
+    bool samples(int d, int i, int j, uint64_t& begin, uint64_t& end) const;
 };
 
 // One direction's stored rays as a layered depth image: per pixel (row-major, N x N) a

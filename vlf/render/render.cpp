@@ -13,6 +13,7 @@
 #include "vlf/render/camera.hpp"
 #include "vlf/render/pathtrace.hpp"
 #include "vlf/scene/raycaster.hpp"
+#include "vlf/scene/smooth_groups.hpp"
 #include "vlf/scene/specular_turn.hpp"
 
 namespace vlf {
@@ -65,8 +66,20 @@ struct Renderer::Impl {
     RayCaster caster;
     PathTracer tracer;
     std::vector<Mat3> rotation;     // per PSF direction: R with R * omega_d = +z
-    std::vector<char> stored_rays;  // per face: the bake holds L_T rays of it
+    std::vector<char> stored_rays;  // per face: the bake holds L_T rays of it (or its surface)
+    SmoothGroups smooth;            // the smooth mirror and glass surfaces
     int N = 0;
+
+    // What the lookup of x on face `face` reads in PSF d (from_rays): the travel direction
+    // (the face's front sense of omega_d) and, for a face of a smooth surface, its plane in
+    // the PSF's frame (rotated normal, offset) and its group.
+    struct Probe {
+        const Face* face = nullptr;
+        Vec3 travel{0.0};
+        Vec3 normal{0.0};
+        double offset = 0.0;
+        int group = -1;
+    };
 
     explicit Impl(const Bake& b)
         : bake(b), scene(b.scene), caster(b.scene), tracer(b.scene, caster) {
@@ -83,6 +96,12 @@ struct Renderer::Impl {
         stored_rays.assign(scene.faces.size(), 0);
         for (int32_t f : bake.rays.face)
             if (f >= 0 && size_t(f) < stored_rays.size()) stored_rays[f] = 1;
+        smooth = group_smooth_specular_faces(scene);
+        for (const std::vector<int>& group : smooth.faces) {
+            bool any = false;
+            for (int f : group) any = any || stored_rays[size_t(f)];
+            for (int f : group) stored_rays[size_t(f)] = any;
+        }
     }
 
     // P^T of face f at x, bilinear on its chart's grid (VLF §6.2/§6.3).
@@ -169,12 +188,50 @@ struct Renderer::Impl {
         return L;
     }
 
-    // L_T of face `face` in PSF d at continuous pixel-centre coordinates (cx, cy) (pixel
-    // (i, j) has its centre at (i, j)): bilinear between the four nearest pixel centres
-    // that hold a sample of the face (renormalised), else inverse-square-distance weights
+    // Depth along PSF d's +z at which the ray through the pixel centre (i, j) meets the plane
+    // {y : dot(normal, y) = offset}, `normal` in the PSF's frame (normal.z != 0).
+    double plane_depth(int i, int j, const Vec3& normal, double offset) const {
+        const double px = (2.0 * i + 1.0) / N - 1.0, py = (2.0 * j + 1.0) / N - 1.0;
+        return (offset - normal.x * px - normal.y * py) / normal.z;
+    }
+
+    // The light ray (d, i, j) holds of x's surface, leaving along the probe's travel
+    // direction. A face's own sample; on a smooth mirror or glass surface, whose light the
+    // field carries per surface and not per facet (docs/propagation.md §13), the sample of
+    // whichever of the surface's faces showing their front to the travel direction the ray
+    // meets nearest the probe face's plane, within two ray spacings of it along the ray (a
+    // neighbouring facet, not another sheet of the surface behind or in front).
+    bool sample(int d, int i, int j, const Probe& p, RgbF& out) const {
+        if (p.group < 0) return bake.rays.lookup(d, i, j, p.face->id, out);
+        uint64_t b = 0, e = 0;
+        if (!bake.rays.samples(d, i, j, b, e)) return false;
+        const double depth = plane_depth(i, j, p.normal, p.offset);
+        double best = 4.0 / N;  // two ray spacings (PSF coordinates span [-1, 1])
+        bool found = false;
+        for (uint64_t k = b; k < e; ++k) {
+            const int q = bake.rays.face[k];
+            if (q < 0 || size_t(q) >= smooth.of_face.size() || smooth.of_face[size_t(q)] != p.group)
+                continue;
+            const Face& g = scene.faces[size_t(q)];
+            if (glm::dot(p.travel, g.normal) <= 0.0) continue;
+            const double gap =
+                q == p.face->id
+                    ? 0.0
+                    : std::abs(plane_depth(i, j, rotation[d] * g.normal, g.plane_offset) - depth);
+            if (gap > best || (found && gap == best)) continue;
+            best = gap;
+            out = bake.rays.radiance[k];
+            found = true;
+        }
+        return found;
+    }
+
+    // L_T of the probe's surface in PSF d at continuous pixel-centre coordinates (cx, cy)
+    // (pixel (i, j) has its centre at (i, j)): bilinear between the four nearest pixel
+    // centres that hold a sample of it (renormalised), else inverse-square-distance weights
     // over the 8-neighbourhood of the pixel containing the point (VLF §6.1 "interpolated
     // from the 8-neighbourhood").
-    bool interpolate(int d, double cx, double cy, int face, Rgb& out) const {
+    bool interpolate(int d, double cx, double cy, const Probe& p, Rgb& out) const {
         const int i0 = static_cast<int>(std::floor(cx)), j0 = static_cast<int>(std::floor(cy));
         const double fx = cx - i0, fy = cy - j0;
         Rgb sum(0.0);
@@ -183,7 +240,7 @@ struct Renderer::Impl {
         for (int b = 0; b < 2; ++b)
             for (int a = 0; a < 2; ++a) {
                 const double w = (a ? fx : 1.0 - fx) * (b ? fy : 1.0 - fy);
-                if (w <= 1e-9 || !bake.rays.lookup(d, i0 + a, j0 + b, face, v)) continue;
+                if (w <= 1e-9 || !sample(d, i0 + a, j0 + b, p, v)) continue;
                 sum += w * Rgb(v);
                 wsum += w;
             }
@@ -195,7 +252,7 @@ struct Renderer::Impl {
                   jc = static_cast<int>(std::floor(cy + 0.5));
         for (int dj = -1; dj <= 1; ++dj)
             for (int di = -1; di <= 1; ++di) {
-                if (!bake.rays.lookup(d, ic + di, jc + dj, face, v)) continue;
+                if (!sample(d, ic + di, jc + dj, p, v)) continue;
                 const double ex = ic + di - cx, ey = jc + dj - cy;
                 const double w = 1.0 / (1e-6 + ex * ex + ey * ey);
                 sum += w * Rgb(v);
@@ -217,15 +274,20 @@ struct Renderer::Impl {
         const EnclosingTriangle e = bake.directions.enclosing(t);
         Rgb sum(0.0);
         double wsum = 0.0;
+        Probe p;
+        p.face = &f;
+        p.group = smooth.of_face[size_t(f.id)];
+        p.offset = f.plane_offset;
         for (int k = 0; k < 3; ++k) {
             const int d = e.index[k];
             if (e.weight[k] <= 0.0) continue;
-            const Vec3 travel = double(e.sense[k]) * bake.directions.direction(d);
-            if (glm::dot(travel, f.normal) <= 0.0) continue;
+            p.travel = double(e.sense[k]) * bake.directions.direction(d);
+            if (glm::dot(p.travel, f.normal) <= 0.0) continue;
+            p.normal = rotation[d] * f.normal;
             const Vec3 q = rotation[d] * x;
             const double cx = (q.x + 1.0) * N * 0.5 - 0.5, cy = (q.y + 1.0) * N * 0.5 - 0.5;
             Rgb v;
-            if (!interpolate(d, cx, cy, f.id, v)) continue;
+            if (!interpolate(d, cx, cy, p, v)) continue;
             sum += e.weight[k] * v;
             wsum += e.weight[k];
         }
@@ -234,21 +296,29 @@ struct Renderer::Impl {
         return true;
     }
 
-    // Rays (all faces from their stored rays where they have any) or Texture (only faces
-    // with rho_s > 0 from rays, the rest from P^T).
+    // Rays (all faces from their stored rays where they have any, VLF §6.1) or Texture
+    // (VLF §6.2: diffuse faces from P^T, specular ones "by 6.1 or 6.3": flat mirrors and
+    // glass from their rays, smooth ones by backward ray tracing, §6.3). A curved mirror or
+    // glass sends light into directions that vary faster than the direction set samples
+    // them (a glass ball is a lens: a step of 3 degrees in the eye's direction moves what is
+    // seen through it by a large part of the room), so its rays show it blurred; tracing it
+    // reads the same bake, the P^T of the diffuse faces it shows (docs/rendering.md).
     Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere, int max_depth) const {
         RayHit hit;
         if (!caster.intersect(eye, dir, 0.0, kInf, hit)) return Rgb(0.0);
         const Face& f = scene.faces[hit.face];
         if (glm::dot(dir, f.normal) >= 0.0) return Rgb(0.0);  // back side: black
         const Material& m = scene.material_of(f);
-        const bool use_rays = stored_rays[f.id] && (rays_everywhere || m.is_specular());
+        const bool smooth_specular = smooth.of_face[size_t(f.id)] >= 0;
+        const bool use_rays =
+            stored_rays[f.id] && (rays_everywhere || (m.is_specular() && !smooth_specular));
         if (use_rays) {
             Rgb v;
             if (from_rays(f, hit.point, -dir, v)) return v;
         }
-        // No stored ray of this face near x in any usable direction: a mirror falls back
-        // to ray tracing (its L_T would otherwise be missing), a diffuse face to P^T.
+        // A smooth mirror or glass in texture mode, or no stored ray of this face near x in
+        // any usable direction: a mirror is ray traced (its L_T would otherwise be missing),
+        // a diffuse face shows P^T.
         if (m.is_specular()) return raytrace(eye, dir, max_depth);
         return lightmap(f, hit.point);
     }

@@ -1,27 +1,19 @@
 #include "vlf/transport/smooth_surfaces.hpp"
 
 #include <algorithm>
-#include <map>
-#include <tuple>
+#include <utility>
 
 #include "vlf/field/psf.hpp"
+#include "vlf/scene/smooth_groups.hpp"
 
 namespace vlf {
 
 SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs,
                                     const Coverage& coverage) {
     SmoothSurfaces s;
-    s.of_face.assign(scene.faces.size(), -1);
-    // (object, inner, material) -> surface: one material per surface, so its turned light
-    // keeps one rho_s (an imported object may give its faces several).
-    std::map<std::tuple<int, bool, int>, int> index;
-    for (const Face& f : scene.faces) {
-        if (f.vertex_normals.empty() || !scene.material_of(f).is_specular()) continue;
-        const auto [at, added] = index.try_emplace({f.object, f.inner, f.material}, s.size());
-        if (added) s.faces.emplace_back();
-        s.of_face[size_t(f.id)] = at->second;
-        s.faces[size_t(at->second)].push_back(f.id);
-    }
+    SmoothGroups groups = group_smooth_specular_faces(scene);
+    s.of_face = std::move(groups.of_face);
+    s.faces = std::move(groups.faces);
     s.directions = dirs.size();
     s.rays.assign(size_t(s.size()) * size_t(s.directions) * 2, 0);
     for (int k = 0; k < s.size(); ++k)
