@@ -365,16 +365,18 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
         if (target.x <= 0 && target.y <= 0 && target.z <= 0) return;
         double weights = 0.0;
         for (const GatherEntry* g = e0; g != e1; ++g) weights += double(g->weight);
-        for (int c = 0; c < 3; ++c) {
-            if (target[c] <= 0.0) continue;
-            if (weights <= 0.0) {
-                acc[size_t(p[0].nearest)][c] += target[c] / beam;
-                continue;
-            }
-            const double scale = target[c] / (weights * beam);
-            for (const GatherEntry* g = e0; g != e1; ++g)
-                acc[size_t(g->ray)][c] += double(g->weight) * scale;
+        if (weights <= 0.0) {
+            for (int c = 0; c < 3; ++c)
+                if (target[c] > 0.0) acc[size_t(p[0].nearest)][c] += target[c] / beam;
+            return;
         }
+        // One pass for the three channels; a channel with nothing to send scales by 0 (its
+        // sums take +0, which changes no value: they start at +0 and only grow).
+        Rgb scale(0.0);
+        for (int c = 0; c < 3; ++c)
+            if (target[c] > 0.0) scale[c] = target[c] / (weights * beam);
+        for (const GatherEntry* g = e0; g != e1; ++g)
+            acc[size_t(g->ray)] += double(g->weight) * scale;
         return;
     }
     constexpr uint32_t kSmall = 16;
@@ -391,14 +393,14 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
     if (target.x <= 0 && target.y <= 0 && target.z <= 0) return;
     Rgb total(0.0);
     for (const GatherEntry* g = e0; g != e1; ++g) total += value[g->pixel] * double(g->weight);
+    Rgb scale(0.0);  // as above: 0 where a channel sends nothing through the entries
+    for (int c = 0; c < 3; ++c)
+        if (target[c] > 0.0 && total[c] > 0.0) scale[c] = target[c] / (total[c] * beam);
+    if (scale.x > 0.0 || scale.y > 0.0 || scale.z > 0.0)
+        for (const GatherEntry* g = e0; g != e1; ++g)
+            acc[size_t(g->ray)] += value[g->pixel] * double(g->weight) * scale;
     for (int c = 0; c < 3; ++c) {
-        if (target[c] <= 0.0) continue;
-        if (total[c] > 0.0) {
-            const double scale = target[c] / (total[c] * beam);
-            for (const GatherEntry* g = e0; g != e1; ++g)
-                acc[size_t(g->ray)][c] += value[g->pixel][c] * double(g->weight) * scale;
-            continue;
-        }
+        if (target[c] <= 0.0 || total[c] > 0.0) continue;
         // No target ray's centre lies in the footprints of the pixels that send this
         // channel, on their sheet (the footprints are smaller than the target's rays there):
         // each pixel's share goes to the target ray nearest its point. Energy stays exact.
