@@ -232,47 +232,97 @@ TEST(RenderGlass, SmoothSphereMirrorReflectsAboutTheSphereNormal) {
 // Rays mode reads a smooth surface's light from the rays of the whole surface around a point,
 // not of its facet only (render.cpp Impl::sample; docs/rendering.md §6.1). A smooth mirror
 // of two parallel sheets, y = 0 over 0 <= x, z <= 1 and y = -0.3 over 0 <= x <= 2, cut into
-// triangles narrower than a ray (1/30 against rays 0.038 apart): its stored rays are written
-// by hand, each sample the value of a linear function of where the ray meets the sheet (the
-// upper sheet's, and 10 more on the lower). Bilinear interpolation reproduces a linear
-// function exactly, so rays mode must give the function at every point seen farther than
-// three rays from a sheet's rim, to float precision: with a facet's own rays it gives a
-// patchwork of the few rays each facet has (and, where a facet has none, the traced
-// mirror's black), and taking the rays of the wrong sheet adds 10. Texture mode traces a
-// smooth mirror (VLF §6.2 by §6.3): it gives what raytrace mode gives.
+// triangles narrower than a ray (1/30 against rays 0.038 apart); the upper sheet has a
+// square hole, and in the hole lie a coplanar patch of another mirror object and, 0.01
+// below it, a facet of the sheets' own object that faces down. The stored rays are written
+// by hand: each sample is the value of a linear function of where its ray meets the face,
+// plus 10 on the lower sheet, 100 on the other object and 1000 on the downward face.
+// - Farther than three rays from every rim, bilinear interpolation reproduces the linear
+//   function exactly, so rays mode must give it to float precision: with a facet's own rays
+//   it gives a patchwork of the few rays each facet has (and where a facet has none, the
+//   traced mirror's black), and with the rays of the wrong sheet 10 more.
+// - Next to the hole, where some of the four nearest rays meet only the patch, the downward
+//   facet or the lower sheet, none of those may be taken: the weights renormalised over the
+//   rays of the sheet err by at most the function's change across a ray's diagonal, where
+//   taking any of them adds at least a tenth of 10.
+// Texture mode traces a smooth mirror (VLF §6.2 by §6.3): it gives what raytrace mode gives.
 TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
     test::TempDir dir("smooth_sheets");
-    std::string obj;
-    const int cells = 30;
-    int vertices = 0;
-    auto sheet = [&](double y, int columns) {
+    const int cells = 30, hole0 = 13, hole1 = 17;  // the hole: cells [13, 17)^2 of the upper sheet
+    auto in_hole = [&](int a, int c) { return a >= hole0 && a < hole1 && c >= hole0 && c < hole1; };
+    // Cells of a sheet at height y with `columns` cells along x, those `take` keeps; faces
+    // look up (normal 1) or down (normal 2).
+    auto sheet = [&](double y, int columns, auto take, bool up) {
+        std::string obj;
+        int vertices = 0;
         for (int a = 0; a < columns; ++a)
             for (int c = 0; c < cells; ++c) {
+                if (!take(a, c)) continue;
                 const double x0 = double(a) / cells, x1 = double(a + 1) / cells;
                 const double z0 = double(c) / cells, z1 = double(c + 1) / cells;
                 obj += fmt::format("v {} {} {}\nv {} {} {}\nv {} {} {}\nv {} {} {}\n", x0, y, z0,
                                    x0, y, z1, x1, y, z0, x1, y, z1);
                 const int v = vertices + 1;
                 // Counter-clockwise seen from +y: the faces look up.
-                obj += fmt::format("f {0}//1 {1}//1 {2}//1\nf {2}//1 {1}//1 {3}//1\n", v, v + 1,
-                                   v + 2, v + 3);
+                if (up)
+                    obj += fmt::format("f {0}//1 {1}//1 {2}//1\nf {2}//1 {1}//1 {3}//1\n", v, v + 1,
+                                       v + 2, v + 3);
+                else
+                    obj += fmt::format("f {0}//2 {2}//2 {1}//2\nf {2}//2 {3}//2 {1}//2\n", v, v + 1,
+                                       v + 2, v + 3);
                 vertices += 4;
             }
+        return std::pair(obj, vertices);
     };
-    obj += "vn 0 1 0\n";
-    sheet(0.0, cells);
-    sheet(-0.3, 2 * cells);
-    dir.write("sheets.obj", obj);
+    auto all = [](int, int) { return true; };
+    const auto [upper, nu] = sheet(
+        0.0, cells, [&](int a, int c) { return !in_hole(a, c); }, true);
+    const auto [lower, nl] = sheet(-0.3, 2 * cells, all, true);
+    const auto [down, nd] = sheet(-0.01, cells, in_hole, false);
+    // One object: the obj's vertex indices run on across the parts.
+    auto shift = [](const std::string& part, int by) {
+        std::string out;
+        size_t at = 0;
+        while (at < part.size()) {
+            const size_t end = part.find('\n', at);
+            std::string line = part.substr(at, end - at);
+            if (line.rfind("f ", 0) == 0) {
+                std::string f = "f";
+                size_t k = 2;
+                while (k < line.size()) {
+                    const size_t sp = line.find(' ', k);
+                    const std::string tok = line.substr(k, sp == std::string::npos ? sp : sp - k);
+                    const size_t slash = tok.find('/');
+                    f += " " + std::to_string(std::stoi(tok.substr(0, slash)) + by) +
+                         tok.substr(slash);
+                    k = sp == std::string::npos ? line.size() : sp + 1;
+                }
+                line = f;
+            }
+            out += line + "\n";
+            at = end + 1;
+        }
+        return out;
+    };
+    dir.write("sheets.obj",
+              "vn 0 1 0\nvn 0 -1 0\n" + upper + shift(lower, nu) + shift(down, nu + nl));
+    dir.write("patch.obj", "vn 0 1 0\n" + sheet(0.0, cells, in_hole, true).first);
     const Scene s = load_scene_from_string(
         R"({"materials": {"mirror": {"specular": [1, 1, 1]}, "lamp": {"emission": [1, 1, 1]}},
             "objects": [{"type": "mesh", "file": "sheets.obj", "material": "mirror"},
+                        {"type": "mesh", "file": "patch.obj", "material": "mirror"},
                         {"type": "polygon", "material": "lamp",
                          "vertices": [[0, 1.8, 0], [2, 1.8, 0], [2, 1.8, 1], [0, 1.8, 1]]}]})",
         "sheets.json", dir.path.string());
+    ASSERT_EQ(nd / 4 * 2, 2 * (hole1 - hole0) * (hole1 - hole0));
     const Normalisation& nm = s.normalisation;
-    auto value = [](const Vec3& p) {  // p in user units
-        const Rgb f(1.0 + p.x, 2.0 + p.z, 3.0 + p.x + 2.0 * p.z);
-        return p.y > -0.15 ? f : f + Rgb(10.0);
+    auto linear = [](const Vec3& p) {  // p in user units
+        return Rgb(1.0 + p.x, 2.0 + p.z, 3.0 + p.x + 2.0 * p.z);
+    };
+    auto value = [&](const Face& f, const Vec3& p) {
+        if (f.object == 1) return linear(p) + Rgb(100.0);
+        if (f.normal.y < 0.0) return linear(p) + Rgb(1000.0);
+        return p.y > -0.15 ? linear(p) : linear(p) + Rgb(10.0);
     };
     Bake b = test::scene_only_bake(s);
     const int l = 33, N = 80;
@@ -311,7 +361,7 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
                         continue;
                     const double depth = (f.plane_offset - n.x * px - n.y * py) / n.z;
                     const Vec3 at = nm.to_user(glm::transpose(R) * Vec3(px, py, depth));
-                    pixels[size_t(j) * N + size_t(i)].emplace_back(f.id, value(at));
+                    pixels[size_t(j) * N + size_t(i)].emplace_back(f.id, value(f, at));
                 }
         }
         for (const auto& samples : pixels) {
@@ -323,19 +373,26 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
         }
     }
     const Renderer r(b);
-    // Points seen from an eye above, at least three rays in from every rim of their sheet.
-    const double margin = 3.0 * (2.0 / N) / nm.scale;
+    const double spacing = (2.0 / N) / nm.scale;  // between rays, user units
+    const double margin = 3.0 * spacing;
     ASSERT_LT(margin, 0.15);
+    const double h0 = double(hole0) / cells, h1 = double(hole1) / cells;
+    // How far p lies outside the hole's square (Chebyshev), negative inside.
+    auto outside_hole = [&](double x, double z) {
+        return std::max({h0 - x, x - h1, h0 - z, z - h1});
+    };
     const Vec3 eye(1.0, 1.5, 0.5);
     std::vector<PrimaryRay> primary;
     std::vector<Rgb> expect;
     for (int a = 0; a <= 40; ++a)
         for (int c = 0; c <= 20; ++c) {
             const double x = 0.15 + (2.0 - 0.3) * a / 40.0, z = 0.15 + 0.7 * c / 20.0;
-            const Vec3 p(x, x < 1.0 ? 0.0 : -0.3, z);
-            if (x > 1.0 - margin && x < 1.0 + margin) continue;
+            const bool up = x < 1.0;
+            if ((x > 1.0 - margin && x < 1.0 + margin) || (up && outside_hole(x, z) < margin))
+                continue;
+            const Vec3 p(x, up ? 0.0 : -0.3, z);
             primary.push_back({nm.to_normalised(eye), glm::normalize(p - eye)});
-            expect.push_back(value(p));
+            expect.push_back(up ? linear(p) : linear(p) + Rgb(10.0));
         }
     RenderSettings rs;
     rs.mode = RenderMode::Rays;
@@ -345,6 +402,42 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
         for (int ch = 0; ch < 3; ++ch)
             worst = std::max(worst, std::abs(got[k][ch] / expect[k][ch] - 1.0));
     EXPECT_LT(worst, 1e-5) << "of " << got.size() << " points";
+    // Next to the hole: per channel, the change of the linear function across a ray's
+    // diagonal on the sheet (the ray spacing over the cosine of the steepest PSF direction
+    // used), relative to its value.
+    const Vec3 gradient[3] = {{1, 0, 0}, {0, 0, 1}, {1, 0, 2}};
+    std::vector<PrimaryRay> near;
+    std::vector<Vec3> at;
+    for (int k = 0; k < 3; ++k) {
+        const double off = (0.25 + 0.3 * k) * margin;  // beyond the hole's rim
+        for (int t = 0; t <= 16; ++t) {
+            const double u = h0 - off + (h1 - h0 + 2.0 * off) * t / 16.0;
+            for (const Vec2& xz :
+                 {Vec2(u, h0 - off), Vec2(u, h1 + off), Vec2(h0 - off, u), Vec2(h1 + off, u)}) {
+                at.emplace_back(xz.x, 0.0, xz.y);
+                near.push_back({nm.to_normalised(eye), glm::normalize(at.back() - eye)});
+            }
+        }
+    }
+    const std::vector<Rgb> rim = r.shade(near, rs);
+    int over = 0;
+    double worst_rim = 0.0;
+    for (size_t k = 0; k < rim.size(); ++k) {
+        const EnclosingTriangle e = b.directions.enclosing(-near[k].dir);
+        double steepest = 1.0;
+        for (int v = 0; v < 3; ++v)
+            if (e.weight[v] > 0.0)
+                steepest = std::min(steepest, std::abs(b.directions.direction(e.index[v]).y));
+        const Rgb f = linear(at[k]);
+        for (int ch = 0; ch < 3; ++ch) {
+            const double bound = glm::length(gradient[ch]) * std::sqrt(2.0) * spacing / steepest;
+            const double err = std::abs(rim[k][ch] - f[ch]);
+            worst_rim = std::max(worst_rim, err / bound);
+            over += err > bound;
+        }
+    }
+    EXPECT_EQ(over, 0) << "of " << rim.size() << " points next to the hole; worst " << worst_rim
+                       << " of the bound";
     rs.mode = RenderMode::Texture;
     const std::vector<Rgb> texture = r.shade(primary, rs);
     rs.mode = RenderMode::Raytrace;

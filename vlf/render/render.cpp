@@ -212,13 +212,15 @@ struct Renderer::Impl {
             const int q = bake.rays.face[k];
             if (q < 0 || size_t(q) >= smooth.of_face.size() || smooth.of_face[size_t(q)] != p.group)
                 continue;
+            if (q == p.face->id) {  // the face's own ray: on its sheet by definition
+                out = bake.rays.radiance[k];
+                return true;
+            }
             const Face& g = scene.faces[size_t(q)];
             if (glm::dot(p.travel, g.normal) <= 0.0) continue;
             const double gap =
-                q == p.face->id
-                    ? 0.0
-                    : std::abs(plane_depth(i, j, rotation[d] * g.normal, g.plane_offset) - depth);
-            if (gap > best || (found && gap == best)) continue;
+                std::abs(plane_depth(i, j, rotation[d] * g.normal, g.plane_offset) - depth);
+            if (!(gap <= best) || (found && gap == best)) continue;
             best = gap;
             out = bake.rays.radiance[k];
             found = true;

@@ -371,7 +371,8 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
             return;
         }
         // One pass for the three channels; a channel with nothing to send scales by 0 (its
-        // sums take +0, which changes no value: they start at +0 and only grow).
+        // sums take +0, which changes no value: they start at +0 and only grow; powers and
+        // weights are finite and not negative).
         Rgb scale(0.0);
         for (int c = 0; c < 3; ++c)
             if (target[c] > 0.0) scale[c] = target[c] / (weights * beam);
