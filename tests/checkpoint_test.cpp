@@ -76,6 +76,15 @@ Propagation stopped_and_resumed(const Scene& scene, const PropagateParams& p,
     return run;
 }
 
+// Stops p's run after cycle `stop_after` (checkpoints in dir), resumes it and expects the
+// state of the uninterrupted run `straight`.
+void expect_resumed_as_straight(const Scene& scene, const PropagateParams& p,
+                                const Propagation& straight, const std::string& dir,
+                                int stop_after) {
+    const Propagation resumed = stopped_and_resumed(scene, p, dir, stop_after);
+    expect_same_state(*straight.transport, *resumed.transport);
+}
+
 // Deferral, perturbed passes (their normalisers recorded in cycle 1), the filter and
 // mirrors (L_U carried between cycles): stopped after cycle 1 and after cycle 2.
 TEST(Checkpoint, ResumedRunHasTheMapsOfAnUninterruptedOne) {
@@ -88,8 +97,7 @@ TEST(Checkpoint, ResumedRunHasTheMapsOfAnUninterruptedOne) {
     const Propagation straight = propagate(scene, p, {});
     for (int stop : {1, 2}) {
         test::TempDir dir("checkpoint_resume");
-        const Propagation resumed = stopped_and_resumed(scene, p, dir.path.string(), stop);
-        expect_same_state(*straight.transport, *resumed.transport);
+        expect_resumed_as_straight(scene, p, straight, dir.path.string(), stop);
         // Only the last cycle's state is kept.
         int states = 0;
         for (const auto& e : fs::directory_iterator(dir.path))
@@ -110,8 +118,7 @@ TEST(Checkpoint, SmoothGlassGathersFromSourcesAndFromArrivalsAlike) {
     p.filter_sigma = 0.7;
     const Propagation straight = propagate(scene, p, {});
     test::TempDir dir("checkpoint_glass");
-    const Propagation resumed = stopped_and_resumed(scene, p, dir.path.string(), 2);
-    expect_same_state(*straight.transport, *resumed.transport);
+    expect_resumed_as_straight(scene, p, straight, dir.path.string(), 2);
 }
 
 // Point and spot lights shoot in cycle 1; their share of P^N is added at

@@ -18,6 +18,7 @@
 #include "vlf/core/error.hpp"
 #include "vlf/core/fresnel.hpp"
 #include "vlf/core/rotation.hpp"
+#include "vlf/field/psf.hpp"
 #include "vlf/render/render.hpp"
 #include "vlf/scene/scene_loader.hpp"
 
@@ -250,11 +251,10 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
     test::TempDir dir("smooth_sheets");
     const int cells = 30, hole0 = 13, hole1 = 17;  // the hole: cells [13, 17)^2 of the upper sheet
     auto in_hole = [&](int a, int c) { return a >= hole0 && a < hole1 && c >= hole0 && c < hole1; };
-    // Cells of a sheet at height y with `columns` cells along x, those `take` keeps; faces
-    // look up (normal 1) or down (normal 2).
-    auto sheet = [&](double y, int columns, auto take, bool up) {
-        std::string obj;
-        int vertices = 0;
+    // Appends to `obj`, whose vertices so far number `vertices`, the cells of a sheet at
+    // height y with `columns` cells along x that `take` keeps; its faces look up (normal 1)
+    // or down (normal 2).
+    auto sheet = [&](std::string& obj, int& vertices, double y, int columns, auto take, bool up) {
         for (int a = 0; a < columns; ++a)
             for (int c = 0; c < cells; ++c) {
                 if (!take(a, c)) continue;
@@ -272,41 +272,17 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
                                        v + 2, v + 3);
                 vertices += 4;
             }
-        return std::pair(obj, vertices);
     };
     auto all = [](int, int) { return true; };
-    const auto [upper, nu] = sheet(
-        0.0, cells, [&](int a, int c) { return !in_hole(a, c); }, true);
-    const auto [lower, nl] = sheet(-0.3, 2 * cells, all, true);
-    const auto [down, nd] = sheet(-0.01, cells, in_hole, false);
-    // One object: the obj's vertex indices run on across the parts.
-    auto shift = [](const std::string& part, int by) {
-        std::string out;
-        size_t at = 0;
-        while (at < part.size()) {
-            const size_t end = part.find('\n', at);
-            std::string line = part.substr(at, end - at);
-            if (line.rfind("f ", 0) == 0) {
-                std::string f = "f";
-                size_t k = 2;
-                while (k < line.size()) {
-                    const size_t sp = line.find(' ', k);
-                    const std::string tok = line.substr(k, sp == std::string::npos ? sp : sp - k);
-                    const size_t slash = tok.find('/');
-                    f += " " + std::to_string(std::stoi(tok.substr(0, slash)) + by) +
-                         tok.substr(slash);
-                    k = sp == std::string::npos ? line.size() : sp + 1;
-                }
-                line = f;
-            }
-            out += line + "\n";
-            at = end + 1;
-        }
-        return out;
-    };
-    dir.write("sheets.obj",
-              "vn 0 1 0\nvn 0 -1 0\n" + upper + shift(lower, nu) + shift(down, nu + nl));
-    dir.write("patch.obj", "vn 0 1 0\n" + sheet(0.0, cells, in_hole, true).first);
+    std::string sheets = "vn 0 1 0\nvn 0 -1 0\n", patch = "vn 0 1 0\n";
+    int sheet_vertices = 0, patch_vertices = 0;
+    sheet(
+        sheets, sheet_vertices, 0.0, cells, [&](int a, int c) { return !in_hole(a, c); }, true);
+    sheet(sheets, sheet_vertices, -0.3, 2 * cells, all, true);
+    sheet(sheets, sheet_vertices, -0.01, cells, in_hole, false);
+    sheet(patch, patch_vertices, 0.0, cells, in_hole, true);
+    dir.write("sheets.obj", sheets);
+    dir.write("patch.obj", patch);
     const Scene s = load_scene_from_string(
         R"({"materials": {"mirror": {"specular": [1, 1, 1]}, "lamp": {"emission": [1, 1, 1]}},
             "objects": [{"type": "mesh", "file": "sheets.obj", "material": "mirror"},
@@ -314,7 +290,9 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
                         {"type": "polygon", "material": "lamp",
                          "vertices": [[0, 1.8, 0], [2, 1.8, 0], [2, 1.8, 1], [0, 1.8, 1]]}]})",
         "sheets.json", dir.path.string());
-    ASSERT_EQ(nd / 4 * 2, 2 * (hole1 - hole0) * (hole1 - hole0));
+    int downward = 0;
+    for (const Face& f : s.faces) downward += f.object == 0 && f.normal.y < 0.0;
+    ASSERT_EQ(downward, 2 * (hole1 - hole0) * (hole1 - hole0));
     const Normalisation& nm = s.normalisation;
     auto linear = [](const Vec3& p) {  // p in user units
         return Rgb(1.0 + p.x, 2.0 + p.z, 3.0 + p.x + 2.0 * p.z);
@@ -351,7 +329,7 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
                  j <= std::min(N - 1, int(std::floor(pixel(hi_y)))); ++j)
                 for (int i = std::max(0, int(std::ceil(pixel(lo_x))));
                      i <= std::min(N - 1, int(std::floor(pixel(hi_x)))); ++i) {
-                    const double px = (2.0 * i + 1.0) / N - 1.0, py = (2.0 * j + 1.0) / N - 1.0;
+                    const double px = ray_coord(i, N), py = ray_coord(j, N);
                     auto edge = [&](const Vec3& a, const Vec3& c) {
                         return (c.x - a.x) * (py - a.y) - (c.y - a.y) * (px - a.x);
                     };
@@ -359,8 +337,7 @@ TEST(RenderGlass, SmoothSurfaceIsLookedUpAcrossItsFacets) {
                                  e2 = edge(v[2], v[0]);
                     if (!((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)))
                         continue;
-                    const double depth = (f.plane_offset - n.x * px - n.y * py) / n.z;
-                    const Vec3 at = nm.to_user(glm::transpose(R) * Vec3(px, py, depth));
+                    const Vec3 at = nm.to_user(PlaneInPsf(f, R, N).point(i, j));
                     pixels[size_t(j) * N + size_t(i)].emplace_back(f.id, value(f, at));
                 }
         }

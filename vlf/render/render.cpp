@@ -10,6 +10,7 @@
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
 #include "vlf/field/lightmap.hpp"
+#include "vlf/field/psf.hpp"
 #include "vlf/render/camera.hpp"
 #include "vlf/render/pathtrace.hpp"
 #include "vlf/scene/raycaster.hpp"
@@ -71,14 +72,13 @@ struct Renderer::Impl {
     int N = 0;
 
     // What the lookup of x on face `face` reads in PSF d (from_rays): the travel direction
-    // (the face's front sense of omega_d) and, for a face of a smooth surface, its plane in
-    // the PSF's frame (rotated normal, offset) and its group.
+    // (the face's front sense of omega_d), the face's plane in the PSF and, for a face of a
+    // smooth surface, its group.
     struct Probe {
-        const Face* face = nullptr;
-        Vec3 travel{0.0};
-        Vec3 normal{0.0};
-        double offset = 0.0;
-        int group = -1;
+        const Face& face;
+        Vec3 travel;
+        PlaneInPsf plane;
+        int group;
     };
 
     explicit Impl(const Bake& b)
@@ -188,13 +188,6 @@ struct Renderer::Impl {
         return L;
     }
 
-    // Depth along PSF d's +z at which the ray through the pixel centre (i, j) meets the plane
-    // {y : dot(normal, y) = offset}, `normal` in the PSF's frame (normal.z != 0).
-    double plane_depth(int i, int j, const Vec3& normal, double offset) const {
-        const double px = (2.0 * i + 1.0) / N - 1.0, py = (2.0 * j + 1.0) / N - 1.0;
-        return (offset - normal.x * px - normal.y * py) / normal.z;
-    }
-
     // The light ray (d, i, j) holds of x's surface, leaving along the probe's travel
     // direction. A face's own sample; on a smooth mirror or glass surface, whose light the
     // field carries per surface and not per facet (docs/propagation.md §13), the sample of
@@ -202,24 +195,23 @@ struct Renderer::Impl {
     // meets nearest the probe face's plane, within two ray spacings of it along the ray (a
     // neighbouring facet, not another sheet of the surface behind or in front).
     bool sample(int d, int i, int j, const Probe& p, RgbF& out) const {
-        if (p.group < 0) return bake.rays.lookup(d, i, j, p.face->id, out);
+        if (p.group < 0) return bake.rays.lookup(d, i, j, p.face.id, out);
         uint64_t b = 0, e = 0;
         if (!bake.rays.samples(d, i, j, b, e)) return false;
-        const double depth = plane_depth(i, j, p.normal, p.offset);
+        const double depth = p.plane.depth(i, j);
         double best = 4.0 / N;  // two ray spacings (PSF coordinates span [-1, 1])
         bool found = false;
         for (uint64_t k = b; k < e; ++k) {
             const int q = bake.rays.face[k];
             if (q < 0 || size_t(q) >= smooth.of_face.size() || smooth.of_face[size_t(q)] != p.group)
                 continue;
-            if (q == p.face->id) {  // the face's own ray: on its sheet by definition
+            if (q == p.face.id) {  // the face's own ray: on its sheet by definition
                 out = bake.rays.radiance[k];
                 return true;
             }
             const Face& g = scene.faces[size_t(q)];
             if (glm::dot(p.travel, g.normal) <= 0.0) continue;
-            const double gap =
-                std::abs(plane_depth(i, j, rotation[d] * g.normal, g.plane_offset) - depth);
+            const double gap = std::abs(PlaneInPsf(g, rotation[d], N).depth(i, j) - depth);
             if (!(gap <= best) || (found && gap == best)) continue;
             best = gap;
             out = bake.rays.radiance[k];
@@ -276,16 +268,13 @@ struct Renderer::Impl {
         const EnclosingTriangle e = bake.directions.enclosing(t);
         Rgb sum(0.0);
         double wsum = 0.0;
-        Probe p;
-        p.face = &f;
-        p.group = smooth.of_face[size_t(f.id)];
-        p.offset = f.plane_offset;
+        const int group = smooth.of_face[size_t(f.id)];
         for (int k = 0; k < 3; ++k) {
             const int d = e.index[k];
             if (e.weight[k] <= 0.0) continue;
-            p.travel = double(e.sense[k]) * bake.directions.direction(d);
-            if (glm::dot(p.travel, f.normal) <= 0.0) continue;
-            p.normal = rotation[d] * f.normal;
+            const Vec3 travel = double(e.sense[k]) * bake.directions.direction(d);
+            if (glm::dot(travel, f.normal) <= 0.0) continue;
+            const Probe p{f, travel, PlaneInPsf(f, rotation[d], N), group};
             const Vec3 q = rotation[d] * x;
             const double cx = (q.x + 1.0) * N * 0.5 - 0.5, cy = (q.y + 1.0) * N * 0.5 - 0.5;
             Rgb v;

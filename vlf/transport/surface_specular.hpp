@@ -172,7 +172,7 @@ struct SurfaceGatherPlan {
 // them, and the gathers' plans per direction, kept (the geometry does not change from cycle
 // to cycle).
 struct SurfaceRayCache {
-    std::vector<SurfaceRays> rays;  // (surface * directions + d) * 2 + (sense > 0 ? 0 : 1)
+    std::vector<SurfaceRays> rays;  // at SmoothSurfaces::slot(surface, d, sense)
     std::vector<uint8_t> built;
     std::vector<SurfaceGatherPlan> gathers;  // per direction
     int64_t bytes() const;                   // the rays
