@@ -71,6 +71,7 @@ vlf::PropagateParams with_preset(const Options& o, const CLI::App& app) {
     q.seed = p.seed;
     q.chunks = p.chunks;
     q.light_dim = p.light_dim;
+    q.caustic_noise = p.caustic_noise;
     if (given("--gather")) q.gather = p.gather;
     q.gather_below = p.gather_below;
     return q;
@@ -273,6 +274,11 @@ int main(int argc, char** argv) {
     app.add_option("--light-dim", o.params.light_dim,
                    "Point, spot and sun beams dimmer than this fraction of their light's mean "
                    "irradiance land coarse (0 = all split to half a texel)")
+        ->capture_default_str();
+    app.add_option("--caustic-noise", o.params.caustic_noise,
+                   "The lamps' light on smooth mirrors and glass is ray traced on with enough rays "
+                   "for about this relative noise in the texels it lights (0 = the field "
+                   "carries it)")
         ->capture_default_str();
     app.add_option("--gather", o.params.gather,
                    "Final gather: rays and light samples per vertex of the faces of charts "

@@ -26,7 +26,7 @@ namespace vlf {
 class Transport;
 
 inline constexpr const char* kCheckpointFormat = "vlf-checkpoint";
-inline constexpr int kCheckpointVersion = 1;
+inline constexpr int kCheckpointVersion = 2;
 
 // SHA-256 of what the transport reads of the scene: faces, charts and their texels,
 // materials, lights, the normalisation. Two loads of one scene file agree.

@@ -52,6 +52,10 @@ void validate(const PropagateParams& p) {
     if (!(p.light_dim >= 0.0) || p.light_dim > 0.1)
         throw ParameterError(
             fmt::format("--light-dim: {} is out of range (0 to 0.1)", p.light_dim));
+    if (!(p.caustic_noise >= 0.0) || p.caustic_noise > 0.5)
+        throw ParameterError(
+            fmt::format("--caustic-noise: {} is out of range (0 = the field carries it, up to 0.5)",
+                        p.caustic_noise));
     if (p.gather < 0 || p.gather > 65536)
         throw ParameterError(fmt::format("--gather: {} is out of range (0 to 65536)", p.gather));
     if (!(p.gather_below >= 0.0) || p.gather_below > 1e6)
@@ -88,6 +92,7 @@ nlohmann::json to_json(const PropagateParams& p) {
     j["cache_budget_mib"] = p.cache_budget_mib;
     j["chunks"] = p.chunks;
     j["light_dim"] = p.light_dim;
+    j["caustic_noise"] = p.caustic_noise;
     j["gather"] = p.gather;
     j["gather_below"] = p.gather_below;
     return j;
@@ -100,7 +105,7 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
                  "deferred",         "perturbations", "perturb_cycles", "filter_sigma",
                  "supersample",      "resample",      "store_all_rays", "seed",
                  "cache_budget_mib", "chunks",        "light_dim",      "gather",
-                 "gather_below"});
+                 "gather_below",     "caustic_noise"});
     PropagateParams p;
     p.field.directions = r.required("directions").integer();
     p.field.resolution = r.required("resolution").integer();
@@ -131,6 +136,9 @@ PropagateParams propagate_params_from_json(const JsonReader& r) {
     // Bakes before dim beams split every light beam to half a texel.
     p.light_dim = 0.0;
     if (const auto dim = r.optional("light_dim")) p.light_dim = dim->number();
+    // Bakes before the lamp caustics' shot carried that light in the field.
+    p.caustic_noise = 0.0;
+    if (const auto noise = r.optional("caustic_noise")) p.caustic_noise = noise->number();
     p.gather = r.required("gather").integer();
     p.gather_below = r.required("gather_below").number();
     try {

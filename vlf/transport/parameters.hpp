@@ -48,6 +48,11 @@ struct PropagateParams {
     // Delta lights' beams dimmer than this fraction of their light's mean irradiance land
     // coarse (light_beams.hpp "Dim beams"); 0: every beam is split to half a texel.
     double light_dim = 1e-3;
+    // The lamps' direct light on smooth mirrors and glass is carried on by ray tracing in
+    // cycle 1 (lamp_caustics.hpp), with enough rays that the relative noise they leave in the
+    // texels they light is about this (RMS, weighted by the texels' light); 0: the field
+    // carries that light instead.
+    double caustic_noise = 0.02;
     // The final gather (render/final_gather.hpp): the faces of charts smaller than
     // `gather_below` texels take their light from `gather` rays and as many light samples
     // per vertex, gathered from the finished field; gather = 0 leaves every face on its

@@ -212,6 +212,18 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
                                  {"root_beams", t.light_beams().roots},
                                  {"leaf_beams", t.light_beams().leaves},
                                  {"seconds", t.light_beams().seconds}};
+    if (const CausticStats& cs = t.lamp_caustics(); cs.rays > 0) {
+        // The lamps' light on smooth surfaces (lamp_caustics.hpp): the field's power handed
+        // over, and the rays' own estimate of it per channel (1 = they agree).
+        const double u = t.to_user_power();
+        Rgb ratio(0.0);
+        for (int c = 0; c < 3; ++c)
+            if (cs.handed[c] > 0) ratio[c] = cs.estimated[c] / cs.handed[c];
+        report["lamp_caustics"] = {{"rays", cs.rays},
+                                   {"handed", {cs.handed.x * u, cs.handed.y * u, cs.handed.z * u}},
+                                   {"estimate_over_handed", {ratio.x, ratio.y, ratio.z}},
+                                   {"seconds", cs.seconds}};
+    }
     if (!run.ranks.is_null()) {
         // Load balance: the slowest rank's passes against the mean (1 = even).
         double worst = 0.0, sum = 0.0;

@@ -284,7 +284,15 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         const Received r = gather_received(pc, g, frags, w.in);
         if (surfaces.of_face[f] >= 0) {
             // A smooth surface's rays, lit or not (the source's window is the whole surface).
-            if (!mat.dielectric) res.absorbed += r.power * (Rgb(1.0) - mat.specular);
+            if (pc.hand_smooth) {
+                // Cycle 1: the lamps' direct light, carried on by the lamp caustics' shot.
+                res.handed += r.power;
+                for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
+                    std::fill_n(w.in.begin() + base, fr.covered, Rgb(0.0));
+                });
+            } else if (!mat.dielectric) {
+                res.absorbed += r.power * (Rgb(1.0) - mat.specular);
+            }
             if (arriving)
                 collect_surface_power(pc, pd, f, frags, w.in, w.arrived, *arrivals);
             else

@@ -14,21 +14,24 @@ namespace {
 // A mirror path ends after this many reflections; what is left (rho_s^16) is absorbed.
 constexpr int kMaxMirrorBounces = 16;
 
+}  // namespace
+
 double radical_inverse(uint64_t k, uint64_t base) {
     double inv = 1.0 / double(base), f = inv, r = 0.0;
     for (; k > 0; k /= base, f *= inv) r += double(k % base) * f;
     return r;
 }
 
-// A point on the chart's faces, uniform by area, from two numbers in [0, 1).
-Vec3 point_on(const Scene& scene, const Chart& c, double u, double v, double w) {
+Vec3 point_on(const Scene& scene, const Chart& c, double u, double v, double w, int* face) {
     double pick = u * c.area;
+    if (face != nullptr) *face = c.faces[0];
     for (int fi : c.faces) {
         const Face& f = scene.faces[fi];
         if (pick > f.area && fi != c.faces.back()) {
             pick -= f.area;
             continue;
         }
+        if (face != nullptr) *face = fi;
         // The face's fan of triangles, by area; then a uniform point in the triangle.
         double t = w * f.area;
         for (size_t k = 1; k + 1 < f.vertices.size(); ++k) {
@@ -44,8 +47,6 @@ Vec3 point_on(const Scene& scene, const Chart& c, double u, double v, double w) 
     }
     return scene.faces[c.faces[0]].vertices[0];
 }
-
-}  // namespace
 
 long nearest_texel(const Chart& c, const Vec3& p) {
     const Vec2 uv = c.texels.to_texel(p);

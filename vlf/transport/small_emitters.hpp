@@ -24,6 +24,14 @@ namespace vlf {
 // (2 / N per side, normalised units).
 std::vector<int> small_emitter_charts(const Scene& scene, int resolution, double pixels = 1.0);
 
+// The radical inverse of k in `base` (a Halton coordinate), in [0, 1).
+double radical_inverse(uint64_t k, uint64_t base);
+
+// A point on chart c's faces, uniform by area, from three numbers in [0, 1) (the face,
+// then a point in it); `face`, if given, is set to the face it lies on.
+Vec3 point_on(const Scene& scene, const Chart& c, double u, double v, double w,
+              int* face = nullptr);
+
 // The texel of chart c at p (normalised units) that has area, the nearest such in its
 // 3 x 3 neighbourhood, else -1.
 long nearest_texel(const Chart& c, const Vec3& p);

@@ -5,11 +5,13 @@
 #include "vlf/transport/transport.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/transport/gaussian_filter.hpp"
+#include "vlf/transport/lamp_caustics.hpp"
 #include "vlf/transport/light_beams.hpp"
 #include "vlf/transport/small_emitters.hpp"
 #include "vlf/transport/transport_internal.hpp"
@@ -158,6 +160,53 @@ void Transport::shoot_lights(const RayCaster& caster) {
     m_timings.passes += shot.seconds();
 }
 
+void Transport::shoot_lamp_caustics(const RayCaster& caster) {
+    const Stopwatch shot;
+    m_hand_smooth = false;
+    const uint64_t per_pair = lamp_caustic_rays(m_scene, caster, m_tex, m_surfaces,
+                                                m_small_emitters, m_params.caustic_noise);
+    const LampCaustics caustics(m_scene, caster, m_tex, m_surfaces, m_small_emitters, per_pair);
+    const uint64_t K = caustics.rays(), chunks = uint64_t(m_params.chunks);
+    // The rays' estimate of the handed power, in fixed chunks added in order: the same on
+    // every rank and thread count.
+    std::vector<Rgb> part(chunks, Rgb(0.0));
+    parallel_for(0, long(chunks), [&](long c) {
+        part[size_t(c)] = caustics.estimate(K * uint64_t(c) / chunks, K * uint64_t(c + 1) / chunks);
+    });
+    Rgb estimated(0.0), scale(0.0);
+    for (const Rgb& p : part) estimated += p;
+    // Each ray scaled by handed / estimated, channel by channel, so the shot carries exactly
+    // what the field handed over. A channel the rays did not find at all (K far too small
+    // for the object) cannot be carried: booked as lost.
+    for (int ch = 0; ch < 3; ++ch) {
+        if (estimated[ch] > 0.0)
+            scale[ch] = m_handed[ch] / estimated[ch];
+        else
+            m_running.lost.cut_beam[ch] += m_handed[ch];
+    }
+    // Like the lights' deposits, the shot's join P^N after the rim pooling and the filter,
+    // which are there for the field's beams: a caustic is sharper than the filter.
+    std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
+    std::swap(held, m_tex.next);
+    PassSources none;
+    run_chunks(
+        [&](long c, ChunkResult& res) {
+            CausticShotResult out{res.next};
+            caustics.shoot(K * uint64_t(c) / chunks, K * uint64_t(c + 1) / chunks, scale, out);
+            res.absorbed = out.absorbed;
+            res.absorbed_back = out.absorbed_back;
+            res.escaped = out.escaped;
+            res.lost = out.lost;
+        },
+        none);
+    if (m_light_next.empty()) m_light_next.assign(m_tex.texels(), Rgb(0.0));
+    for (size_t t = 0; t < m_light_next.size(); ++t) m_light_next[t] += m_tex.next[t];
+    m_tex.next = std::move(held);
+    m_caustic_stats = {int64_t(K), m_handed, estimated, shot.seconds()};
+    m_handed = Rgb(0.0);
+    m_timings.passes += shot.seconds();
+}
+
 // VLF §4.5: a chart whose unshot power is small against what the scene as a whole is
 // expected to hold next cycle (rho_S times today's mean unshot exitance, eq. (4)) keeps
 // accumulating instead of shooting. kappa < 1 keeps the threshold conservative.
@@ -206,6 +255,7 @@ void Transport::run_pass(int pass, double share) {
                          .senders = senders,
                          .share = share,
                          .true_directions = pass == 0,
+                         .hand_smooth = m_hand_smooth,
                          .surface_plans = keep_plans ? &m_surface_plans : nullptr,
                          .surface_arrivals = keep_arrivals ? &m_arrivals : nullptr,
                          .s = s,
@@ -288,6 +338,7 @@ void Transport::reduce_chunks(int count, PassSources& sources) {
         m_running.lost += c.lost;
         m_running.emitted += c.emitted;
         m_light_stats.leaves += c.leaves;
+        m_handed += c.handed;
         m_timings.rasterise += c.times.rasterise;
         m_timings.clipping += c.times.clipping;
         m_timings.exchange += c.times.exchange;
@@ -306,13 +357,22 @@ void Transport::run_cycle(bool last) {
     LedgerEntry e;
     e.cycle = cycles_done() + 1;
     m_ranks->set_cycle(e.cycle);
+    // Cycle 1's ray casting: the first shots of small lamps and lights, and the lamps'
+    // light on smooth mirrors and glass (one scene BVH for all).
+    std::unique_ptr<RayCaster> caster;
     if (e.cycle == 1) {
         load_emission(m_running);
-        if (!m_small_emitters.empty() || !m_scene.lights.empty()) {
-            const RayCaster caster(m_scene);  // one for both first shots
-            shoot_small_emitters(caster);
-            shoot_lights(caster);
+        const bool smooth = m_params.caustic_noise > 0.0 && !m_surfaces.empty();
+        if (!m_small_emitters.empty() || !m_scene.lights.empty() || smooth)
+            caster = std::make_unique<RayCaster>(m_scene);
+        if (caster != nullptr) {
+            shoot_small_emitters(*caster);
+            shoot_lights(*caster);
         }
+        // Some lamp sends through the field and meets a smooth object (a pair).
+        if (smooth)
+            m_hand_smooth =
+                LampCaustics(m_scene, *caster, m_tex, m_surfaces, m_small_emitters, 1).rays() > 0;
     }
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
@@ -324,6 +384,7 @@ void Transport::run_cycle(bool last) {
     const int passes = perturb ? int(m_passes.size()) : 1;
     for (int p = 0; p < passes; ++p) run_pass(p, 1.0 / double(passes));
     if (perturb && e.cycle == m_params.perturb_cycles) release_perturbed_geometry();
+    if (m_hand_smooth) shoot_lamp_caustics(*caster);
 
     // End of cycle: pool, filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
     sw.lap();

@@ -75,6 +75,13 @@ struct LightBeamStats {
     int64_t roots = 0, leaves = 0;
     double seconds = 0.0;
 };
+// The lamp caustics' shot (lamp_caustics.hpp): rays cast, the power the field handed over
+// and the rays' own estimate of it (normalised units), wall seconds.
+struct CausticStats {
+    int64_t rays = 0;
+    Rgb handed{0.0}, estimated{0.0};
+    double seconds = 0.0;
+};
 
 struct TransportTimings {
     double setup = 0;        // directions, rotations, coverage, normalisers, maps, pools
@@ -131,6 +138,7 @@ class Transport {
     const Coverage& coverage() const { return m_coverage; }
     const TransportTimings& timings() const { return m_timings; }
     const LightBeamStats& light_beams() const { return m_light_stats; }
+    const CausticStats& lamp_caustics() const { return m_caustic_stats; }
     int64_t memory_bytes() const;
     int64_t geometry_cache_bytes() const;
     // Directions whose geometry is kept across cycles (within params().cache_budget_mib).
@@ -175,6 +183,9 @@ class Transport {
     // Cycle 1: point, spot and directional lights send their light into P^N by beam
     // tracing (light_beams.hpp).
     void shoot_lights(const RayCaster& caster);
+    // Cycle 1: the light the passes handed over at smooth surfaces (m_handed) is traced on
+    // from the lamps (lamp_caustics.hpp), into P^N.
+    void shoot_lamp_caustics(const RayCaster& caster);
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
@@ -215,6 +226,9 @@ class Transport {
     std::vector<int> m_small_emitters;     // charts that shoot by ray casting
     std::vector<Rgb> m_light_next;         // cycle 1: the lights' share of P^N (shoot_lights)
     LightBeamStats m_light_stats;          // the lights' beams (shoot_lights)
+    bool m_hand_smooth = false;            // cycle 1: smooth surfaces hand their light over
+    Rgb m_handed{0.0};                     // ... what they handed (ChunkResult::handed)
+    CausticStats m_caustic_stats;          // the lamp caustics' shot
     std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels
     double m_rim_reach = 0.0;              // ... with the chart's rim lines this near
     RimPools m_pools;                      // rim texels and the texels they pool with

@@ -88,11 +88,6 @@ namespace transport_detail {
 // sums, since the reduction is always in chunk order.
 inline constexpr int kWave = 4;
 
-// The mean of the three channels.
-inline double luminance(const Rgb& c) {
-    return (c.x + c.y + c.z) / 3.0;
-}
-
 // CPU seconds inside a pass, by step (TransportTimings).
 struct StepTimes {
     double rasterise = 0, clipping = 0, exchange = 0, transfer = 0;
@@ -123,12 +118,13 @@ struct ChunkResult {
     NumericalLoss lost;
     Rgb emitted{0.0};    // the lights' first shot: power of the root beams
     int64_t leaves = 0;  // the lights' first shot: leaf beams traced
+    Rgb handed{0.0};     // cycle 1: arrived on smooth surfaces, for the lamp caustics' shot
     PassSources sources;
     StepTimes times;
     // Zeroes everything, keeping the capacity of `next` (no fresh pages every pass).
     void reset(size_t texels) {
         next.assign(texels, Rgb(0.0));
-        absorbed = absorbed_back = escaped = emitted = Rgb(0.0);
+        absorbed = absorbed_back = escaped = emitted = handed = Rgb(0.0);
         leaves = 0;
         lost = NumericalLoss{};
         sources.faces.clear();
@@ -192,6 +188,9 @@ struct PassContext {
     const Senders& senders;
     double share;          // 1 / the passes of the cycle: what each pass sends of a share
     bool true_directions;  // pass 0: radiance maps are read and written
+    // Cycle 1 with a lamp caustics' shot: what arrives on smooth surfaces is handed to it
+    // (lamp_caustics.hpp), summed in ChunkResult::handed.
+    bool hand_smooth;
     // Per (direction, smooth surface, side): the plans of its sources, kept from cycle to
     // cycle; null where they are made afresh each time (the perturbed passes).
     std::vector<SurfacePlan>* surface_plans;

@@ -159,6 +159,7 @@ void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& comput
         op(m_tex.next.data(), next_bytes, peer);
         op(&m_running, sizeof(m_running), peer);
         op(&m_light_stats.leaves, sizeof(m_light_stats.leaves), peer);
+        op(&m_handed, sizeof(m_handed), peer);
     };
     if (r > 0)
         transfer([&](void* p, uint64_t n, int peer) { m_ranks->receive(p, n, peer); }, r - 1);

@@ -12,8 +12,6 @@
 
 namespace vlf {
 
-using transport_detail::luminance;
-
 Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations, int N, int m,
                           const std::vector<uint8_t>& which) {
     const size_t nf = scene.faces.size();

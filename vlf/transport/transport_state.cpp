@@ -61,6 +61,7 @@ void Transport::save_state(StateWriter& out) const {
     out.array("deferred", m_deferred);
     out.array("light_next", m_light_next);
     out.value("light_stats", m_light_stats);
+    out.value("caustic_stats", m_caustic_stats);
     out.array("ledger", m_ledger);
     out.value("running", m_running);
     const uint64_t passes = m_passes.size();
@@ -92,6 +93,7 @@ void Transport::load_state(StateReader& in) {
     if (!m_light_next.empty() && m_light_next.size() != m_tex.texels())
         throw Error("checkpoint: section 'light_next' does not match the texture maps");
     in.value("light_stats", m_light_stats);
+    in.value("caustic_stats", m_caustic_stats);
     in.array("ledger", m_ledger);
     in.value("running", m_running);
     uint64_t passes = 0;

@@ -1,0 +1,229 @@
+// lamp_caustics.cpp — the area lamps' direct light on smooth mirrors and glass, traced on
+// (lamp_caustics.hpp, docs/propagation.md §14).
+#include "vlf/transport/lamp_caustics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vlf/core/parallel.hpp"
+#include "vlf/scene/glass.hpp"
+#include "vlf/scene/specular_turn.hpp"
+#include "vlf/transport/small_emitters.hpp"
+
+namespace vlf {
+
+namespace {
+
+double largest(const Rgb& c) {
+    return std::max(c.x, std::max(c.y, c.z));
+}
+
+// Unit vectors t, b completing unit n to a right-handed frame.
+void frame(const Vec3& n, Vec3& t, Vec3& b) {
+    const Vec3 a = std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    t = glm::normalize(glm::cross(n, a));
+    b = glm::cross(n, t);
+}
+
+// What one ray of the shot does from its first hit on: the tree of its reflected and
+// refracted branches, followed depth first.
+struct Walk {
+    const Scene& scene;
+    const RayCaster& caster;
+    const SmoothSurfaces& surfaces;
+    const TextureMaps& tex;
+    double floor;  // branches carrying less than this (any channel) are cut
+    CausticShotResult& out;
+
+    void go(const Vec3& from, const Vec3& dir, const Rgb& power, int bounce) const {
+        if (largest(power) < floor) {
+            out.lost.cut_beam += power;
+            return;
+        }
+        RayHit hit;
+        // tmin: past the surface the ray leaves (the scene is in the unit ball).
+        if (!caster.intersect(from, dir, 1e-7, 1e30, hit)) {
+            out.escaped += power;
+            return;
+        }
+        arrive(hit, dir, power, bounce);
+    }
+
+    void arrive(const RayHit& hit, const Vec3& dir, Rgb power, int bounce) const {
+        const Face& f = scene.faces[hit.face];
+        if (glm::dot(f.normal, dir) >= 0.0) {
+            out.absorbed_back += power;  // a one-sided face's back
+            return;
+        }
+        const Material& m = scene.material_of(f);
+        if (m.dielectric) {
+            // Glass (docs/propagation.md §13): Beer-Lambert over the segment that ended on
+            // an inner face, then Fresnel's split, both branches followed.
+            const Rgb kept = power * glass_transmittance(scene, f, hit.t);
+            out.absorbed += power - kept;
+            if (bounce >= LampCaustics::kMaxBounces) {
+                out.absorbed += kept;
+                return;
+            }
+            const SpecularTurn turn = specular_turn(scene, f, hit.point, dir);
+            if (turn.refracts && turn.R < 1.0) {
+                go(hit.point, turn.reflected, kept * turn.R, bounce + 1);
+                go(hit.point, turn.refracted, kept * (1.0 - turn.R), bounce + 1);
+            } else {
+                go(hit.point, turn.reflected, kept, bounce + 1);  // total internal reflection
+            }
+            return;
+        }
+        // A smooth surface turns all it does not absorb (the field's rule, receive_step);
+        // another face reflects rho_d of it into the texel under the hit.
+        Rgb diffuse(0.0);
+        if (surfaces.of_face[size_t(hit.face)] < 0 && m.is_diffuse()) {
+            const Chart& c = scene.chart_of(f);
+            const long texel = nearest_texel(c, hit.point);
+            if (texel >= 0) {
+                diffuse =
+                    power * (c.texel_albedo.empty() ? m.diffuse : c.texel_albedo[size_t(texel)]);
+                out.next[tex.begin(c.id) + size_t(texel)] += diffuse;
+                if (out.landed != nullptr) ++(*out.landed)[tex.begin(c.id) + size_t(texel)];
+            }
+        }
+        const Rgb reflected = m.is_specular() ? power * m.specular : Rgb(0.0);
+        out.absorbed += power - diffuse - reflected;
+        if (!m.is_specular()) return;
+        if (bounce >= LampCaustics::kMaxBounces) {
+            out.absorbed += reflected;
+            return;
+        }
+        go(hit.point, specular_turn(scene, f, hit.point, dir).reflected, reflected, bounce + 1);
+    }
+};
+
+}  // namespace
+
+LampCaustics::LampCaustics(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
+                           const SmoothSurfaces& surfaces, const std::vector<int>& skip,
+                           uint64_t rays)
+    : m_scene(scene), m_caster(caster), m_tex(tex), m_surfaces(surfaces), m_rays(rays) {
+    if (rays == 0 || surfaces.empty()) return;
+    // The smooth objects and their bounding balls (about their boxes' centres).
+    std::vector<int> objects;
+    for (const std::vector<int>& faces : surfaces.faces)
+        for (int f : faces) objects.push_back(scene.faces[size_t(f)].object);
+    std::sort(objects.begin(), objects.end());
+    objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
+    for (const Chart& c : scene.charts) {
+        if (!scene.material_of(c).is_emitter()) continue;
+        if (std::find(skip.begin(), skip.end(), c.id) != skip.end()) continue;
+        for (int object : objects) {
+            Vec3 lo(1e300), hi(-1e300);
+            for (const std::vector<int>& faces : surfaces.faces)
+                for (int f : faces)
+                    if (scene.faces[size_t(f)].object == object)
+                        for (const Vec3& v : scene.faces[size_t(f)].vertices) {
+                            lo = glm::min(lo, v);
+                            hi = glm::max(hi, v);
+                        }
+            Pair p{c.id, object, 0.5 * (lo + hi), 0.0};
+            for (const std::vector<int>& faces : surfaces.faces)
+                for (int f : faces)
+                    if (scene.faces[size_t(f)].object == object)
+                        for (const Vec3& v : scene.faces[size_t(f)].vertices)
+                            p.radius = std::max(p.radius, glm::length(v - p.centre));
+            m_pairs.push_back(p);
+        }
+    }
+}
+
+bool LampCaustics::first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayHit& hit) const {
+    const Pair& p = m_pairs[size_t(k / m_rays)];
+    const uint64_t j = k % m_rays;
+    const Chart& lamp = m_scene.charts[size_t(p.chart)];
+    // Hammersley: (j + 1/2) / K and base 2 for the direction in the cone, bases 3, 5, 7
+    // for the point on the lamp.
+    int face = 0;
+    from = point_on(m_scene, lamp, radical_inverse(j, 3), radical_inverse(j, 5),
+                    radical_inverse(j, 7), &face);
+    const Vec3 to = p.centre - from;
+    const double dist = glm::length(to);
+    // Uniform over the cone of directions from `from` that can meet the bounding ball (the
+    // whole sphere of directions if `from` is inside it; those below the lamp carry nothing).
+    const double cos_max =
+        dist > p.radius ? std::sqrt(1.0 - (p.radius / dist) * (p.radius / dist)) : -1.0;
+    const Vec3 axis = dist > 0.0 ? to / dist : m_scene.faces[size_t(face)].normal;
+    const double u1 = (double(j) + 0.5) / double(m_rays), u2 = radical_inverse(j, 2);
+    const double cos_t = 1.0 - u1 * (1.0 - cos_max);
+    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+    Vec3 t, b;
+    frame(axis, t, b);
+    const double phi = 2.0 * kPi * u2;
+    dir = glm::normalize(axis * cos_t + t * (sin_t * std::cos(phi)) + b * (sin_t * std::sin(phi)));
+    const double cos_lamp = glm::dot(m_scene.faces[size_t(face)].normal, dir);
+    if (cos_lamp <= 0.0) return false;
+    if (!m_caster.intersect(from, dir, 1e-7, 1e30, hit)) return false;
+    const Face& met = m_scene.faces[size_t(hit.face)];
+    if (met.object != p.object || m_surfaces.of_face[size_t(hit.face)] < 0 ||
+        glm::dot(met.normal, dir) >= 0.0)
+        return false;  // the field's light: not this object's
+    const double solid_angle = 2.0 * kPi * (1.0 - cos_max);
+    // L_e A cos(theta) Omega / K: the lamp's exitance integral, sampled uniformly.
+    power =
+        m_scene.material_of(lamp).emission * (lamp.area * cos_lamp * solid_angle / double(m_rays));
+    return true;
+}
+
+Rgb LampCaustics::estimate(uint64_t k0, uint64_t k1) const {
+    Rgb sum(0.0);
+    Vec3 from, dir;
+    Rgb power;
+    RayHit hit;
+    for (uint64_t k = k0; k < k1; ++k)
+        if (first_ray(k, from, dir, power, hit)) sum += power;
+    return sum;
+}
+
+void LampCaustics::shoot(uint64_t k0, uint64_t k1, const Rgb& scale, CausticShotResult& out) const {
+    Vec3 from, dir;
+    Rgb power;
+    RayHit hit;
+    for (uint64_t k = k0; k < k1; ++k) {
+        if (!first_ray(k, from, dir, power, hit)) continue;
+        power *= scale;
+        const Walk walk{m_scene, m_caster, m_surfaces, m_tex, kMinWeight * largest(power), out};
+        walk.arrive(hit, dir, power, 0);
+    }
+}
+
+uint64_t lamp_caustic_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
+                           const SmoothSurfaces& surfaces, const std::vector<int>& skip,
+                           double noise) {
+    constexpr uint64_t kPilot = 65536, kMin = uint64_t(1) << 18, kMax = uint64_t(1) << 24;
+    constexpr int kPilotChunks = 4;
+    const LampCaustics pilot(scene, caster, tex, surfaces, skip, kPilot);
+    const uint64_t K = pilot.rays();
+    std::vector<std::vector<Rgb>> lit(kPilotChunks);
+    std::vector<std::vector<uint32_t>> landed(kPilotChunks);
+    parallel_for(0, kPilotChunks, [&](long c) {
+        lit[size_t(c)].assign(tex.texels(), Rgb(0.0));
+        landed[size_t(c)].assign(tex.texels(), 0);
+        CausticShotResult out{lit[size_t(c)]};
+        out.landed = &landed[size_t(c)];
+        pilot.shoot(K * uint64_t(c) / kPilotChunks, K * uint64_t(c + 1) / kPilotChunks, Rgb(1.0),
+                    out);
+    });
+    double weighted = 0.0, weight = 0.0;
+    for (size_t t = 0; t < tex.texels(); ++t) {
+        double E = 0.0, n = 0.0;
+        for (int c = 0; c < kPilotChunks; ++c) {
+            E += luminance(lit[size_t(c)][t]);
+            n += double(landed[size_t(c)][t]);
+        }
+        if (n <= 0.0 || E <= 0.0) continue;
+        const double T = luminance(tex.next[t]) + E;
+        weighted += T * (E / T) * (E / T) / n;
+        weight += T;
+    }
+    const double factor = weight > 0.0 ? weighted / weight / (noise * noise) : 0.0;
+    return uint64_t(std::clamp(std::ceil(double(kPilot) * factor), double(kMin), double(kMax)));
+}
+
+}  // namespace vlf
