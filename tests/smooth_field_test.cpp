@@ -12,6 +12,8 @@
 #include "vlf/core/parallel.hpp"
 #include "vlf/render/pathtrace.hpp"
 #include "vlf/scene/raycaster.hpp"
+#include "vlf/transport/lamp_caustics.hpp"
+#include "vlf/transport/smooth_surfaces.hpp"
 #include "vlf/transport/transport.hpp"
 
 namespace vlf {
@@ -311,9 +313,10 @@ Scene closed_room(const std::string& materials, const std::string& objects) {
         )" + objects + "]}");
 }
 
-// The room with a smooth glass ball (absorbing), a smooth mirror ball and a smooth glass torus
+// The room with a smooth glass ball (absorbing), a smooth mirror ball, a smooth glass torus
 // (a surface with two sheets facing the same way along many directions: each sheet is its
-// own layer, surface_specular.cpp).
+// own layer, surface_specular.cpp) and a faceted mirror ball (flat-shaded: a source per face,
+// but a lens for the lamp caustics' shot, lamp_caustics.hpp caustic_faces).
 Scene smooth_room() {
     return closed_room(
         R"("glass": {"dielectric": {"ior": 1.5, "absorption": [0.3, 0.1, 0.0]}},
@@ -322,6 +325,8 @@ Scene smooth_room() {
             "subdivisions": 2},
            {"type": "sphere", "material": "mirror", "center": [0.4, 0.5, 0.2], "radius": 0.3,
             "subdivisions": 2},
+           {"type": "sphere", "material": "mirror", "center": [-0.5, 1.4, -0.5], "radius": 0.2,
+            "subdivisions": 1, "smooth": false},
            {"type": "mesh", "file": ")" +
             test::source_path("scenes/meshes/torus.obj") +
             R"(", "material": "glass", "scale": 0.3, "rotate_x_deg": 60, "translate": [0, 1.3, 0]})");
@@ -342,6 +347,31 @@ TEST(SmoothField, LedgerClosesWithSmoothGlassAndMirror) {
         EXPECT_EQ(t->lamp_caustics().rays > 0, noise > 0);
         for (const LedgerEntry& e : t->ledger())
             EXPECT_LE(e.relative_error(), 1e-9) << format_ledger(e);
+    }
+}
+
+// Which faces hand the lamps' light to the shot (caustic_faces): every face of a smooth
+// mirror or glass object, and the specular faces of a flat-shaded one whose specular faces
+// lie in more than one plane (a faceted ball, a glass box); not a mirror of one plane, even
+// two-sided (a face and its twin), nor a diffuse object.
+TEST(SmoothField, CurvedMirrorsAndGlassHandTheLampsLightToTheShot) {
+    const Scene scene = closed_room(
+        R"("glass": {"dielectric": {"ior": 1.5}}, "mirror": {"specular": [0.9, 0.9, 0.9]})",
+        R"({"type": "sphere", "material": "glass", "center": [-0.5, 0.5, 0], "radius": 0.2,
+            "subdivisions": 1, "name": "smooth glass"},
+           {"type": "sphere", "material": "mirror", "center": [0.5, 0.5, 0], "radius": 0.2,
+            "subdivisions": 1, "smooth": false, "name": "faceted mirror"},
+           {"type": "box", "material": "glass", "min": [-0.2, 0.1, 0.3], "max": [0.2, 0.3, 0.5],
+            "name": "glass box"},
+           {"type": "polygon", "material": "mirror", "two_sided": true, "name": "flat mirror",
+            "vertices": [[-0.9, 0.5, -0.9], [-0.5, 0.5, -0.9], [-0.5, 1.0, -0.9], [-0.9, 1.0, -0.9]]})");
+    const auto t = run_transport(scene, params(33, 16, 4, 1));
+    const std::vector<uint8_t> hand =
+        caustic_faces(scene, find_smooth_surfaces(scene, t->directions(), t->coverage()));
+    for (const Face& f : scene.faces) {
+        const std::string& name = scene.objects[size_t(f.object)].name;
+        const bool want = name == "smooth glass" || name == "faceted mirror" || name == "glass box";
+        EXPECT_EQ(hand[size_t(f.id)] != 0, want) << name << " face " << f.id;
     }
 }
 

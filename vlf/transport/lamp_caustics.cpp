@@ -100,37 +100,74 @@ struct Walk {
 
 }  // namespace
 
+std::vector<uint8_t> caustic_faces(const Scene& scene, const SmoothSurfaces& surfaces) {
+    std::vector<uint8_t> out(scene.faces.size(), 0);
+    // Per object: the plane of its first flat specular face, and whether another leaves it.
+    struct Plane {
+        int first = -1;
+        bool curved = false;
+    };
+    std::vector<Plane> planes(scene.objects.size());
+    const auto flat_specular = [&](const Face& f) {
+        const Material& m = scene.material_of(f);
+        return surfaces.of_face[size_t(f.id)] < 0 && m.is_specular() && !m.is_emitter();
+    };
+    for (const Face& f : scene.faces) {
+        if (!flat_specular(f)) continue;
+        Plane& p = planes[size_t(f.object)];
+        if (p.first < 0) {
+            p.first = f.id;
+            continue;
+        }
+        const Face& g = scene.faces[size_t(p.first)];
+        const bool same = std::abs(glm::dot(f.normal, g.normal)) > 1.0 - 1e-9 &&
+                          std::abs(glm::dot(g.normal, f.vertices[0] - g.vertices[0])) < 1e-9;
+        p.curved = p.curved || !same;
+    }
+    for (const Face& f : scene.faces)
+        out[size_t(f.id)] = surfaces.of_face[size_t(f.id)] >= 0 ||
+                            (flat_specular(f) && planes[size_t(f.object)].curved);
+    return out;
+}
+
 LampCaustics::LampCaustics(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-                           const SmoothSurfaces& surfaces, const std::vector<int>& skip,
-                           uint64_t rays)
-    : m_scene(scene), m_caster(caster), m_tex(tex), m_surfaces(surfaces), m_rays(rays) {
-    if (rays == 0 || surfaces.empty()) return;
-    // The smooth objects and their bounding balls (about their boxes' centres).
+                           const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
+                           const std::vector<int>& skip, uint64_t rays)
+    : m_scene(scene),
+      m_caster(caster),
+      m_tex(tex),
+      m_surfaces(surfaces),
+      m_caustic(caustic),
+      m_rays(rays) {
+    if (rays == 0) return;
+    // The objects with faces that take part, and their bounding balls (about the boxes of
+    // those faces).
+    std::vector<Vec3> lo(scene.objects.size(), Vec3(1e300)), hi(scene.objects.size(), Vec3(-1e300));
     std::vector<int> objects;
-    for (const std::vector<int>& faces : surfaces.faces)
-        for (int f : faces) objects.push_back(scene.faces[size_t(f)].object);
+    for (const Face& f : scene.faces) {
+        if (!caustic[size_t(f.id)]) continue;
+        objects.push_back(f.object);
+        for (const Vec3& v : f.vertices) {
+            lo[size_t(f.object)] = glm::min(lo[size_t(f.object)], v);
+            hi[size_t(f.object)] = glm::max(hi[size_t(f.object)], v);
+        }
+    }
     std::sort(objects.begin(), objects.end());
     objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
+    std::vector<double> radius(scene.objects.size(), 0.0);
+    for (const Face& f : scene.faces)
+        if (caustic[size_t(f.id)])
+            for (const Vec3& v : f.vertices) {
+                const Vec3 centre = 0.5 * (lo[size_t(f.object)] + hi[size_t(f.object)]);
+                radius[size_t(f.object)] =
+                    std::max(radius[size_t(f.object)], glm::length(v - centre));
+            }
     for (const Chart& c : scene.charts) {
         if (!scene.material_of(c).is_emitter()) continue;
         if (std::find(skip.begin(), skip.end(), c.id) != skip.end()) continue;
-        for (int object : objects) {
-            Vec3 lo(1e300), hi(-1e300);
-            for (const std::vector<int>& faces : surfaces.faces)
-                for (int f : faces)
-                    if (scene.faces[size_t(f)].object == object)
-                        for (const Vec3& v : scene.faces[size_t(f)].vertices) {
-                            lo = glm::min(lo, v);
-                            hi = glm::max(hi, v);
-                        }
-            Pair p{c.id, object, 0.5 * (lo + hi), 0.0};
-            for (const std::vector<int>& faces : surfaces.faces)
-                for (int f : faces)
-                    if (scene.faces[size_t(f)].object == object)
-                        for (const Vec3& v : scene.faces[size_t(f)].vertices)
-                            p.radius = std::max(p.radius, glm::length(v - p.centre));
-            m_pairs.push_back(p);
-        }
+        for (int object : objects)
+            m_pairs.push_back({c.id, object, 0.5 * (lo[size_t(object)] + hi[size_t(object)]),
+                               radius[size_t(object)]});
     }
 }
 
@@ -161,8 +198,7 @@ bool LampCaustics::first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayH
     if (cos_lamp <= 0.0) return false;
     if (!m_caster.intersect(from, dir, 1e-7, 1e30, hit)) return false;
     const Face& met = m_scene.faces[size_t(hit.face)];
-    if (met.object != p.object || m_surfaces.of_face[size_t(hit.face)] < 0 ||
-        glm::dot(met.normal, dir) >= 0.0)
+    if (met.object != p.object || !m_caustic[size_t(hit.face)] || glm::dot(met.normal, dir) >= 0.0)
         return false;  // the field's light: not this object's
     const double solid_angle = 2.0 * kPi * (1.0 - cos_max);
     // L_e A cos(theta) Omega / K: the lamp's exitance integral, sampled uniformly.
@@ -194,11 +230,21 @@ void LampCaustics::shoot(uint64_t k0, uint64_t k1, const Rgb& scale, CausticShot
 }
 
 uint64_t lamp_caustic_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-                           const SmoothSurfaces& surfaces, const std::vector<int>& skip,
-                           double noise) {
-    constexpr uint64_t kPilot = 65536, kMin = uint64_t(1) << 18, kMax = uint64_t(1) << 24;
+                           const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
+                           const std::vector<int>& skip, double noise) {
     constexpr int kPilotChunks = 4;
-    const LampCaustics pilot(scene, caster, tex, surfaces, skip, kPilot);
+    // Per pair: the pilot's 2^16 rays and the shot's 2^18 to 2^24, fewer when there are so
+    // many pairs that the shot would pass 2^25 rays in all (the pilot 2^20).
+    const size_t pairs = LampCaustics(scene, caster, tex, surfaces, caustic, skip, 1).pairs();
+    if (pairs == 0) return 0;
+    const auto share = [&](int total_log2, int each_log2) {
+        return std::max<uint64_t>(
+            uint64_t(1) << 12,
+            std::min(uint64_t(1) << each_log2, (uint64_t(1) << total_log2) / uint64_t(pairs)));
+    };
+    const uint64_t kPilot = share(20, 16), kMax = share(25, 24);
+    const uint64_t kMin = std::min(uint64_t(1) << 18, kMax);
+    const LampCaustics pilot(scene, caster, tex, surfaces, caustic, skip, kPilot);
     const uint64_t K = pilot.rays();
     std::vector<std::vector<Rgb>> lit(kPilotChunks);
     std::vector<std::vector<uint32_t>> landed(kPilotChunks);

@@ -1,17 +1,19 @@
-// lamp_caustics.hpp — the direct light of the area lamps on smooth mirrors and glass,
-// carried on by ray tracing instead of the field (docs/propagation.md §14).
+// lamp_caustics.hpp — the direct light of the area lamps on curved mirrors and glass (smooth,
+// or faceted over more than one plane), carried on by ray tracing instead of the field
+// (docs/propagation.md §14).
 //
-// A smooth mirror or glass object is a lens: the light of a lamp it turns lands in a
+// A curved mirror or glass object is a lens: the light of a lamp it turns lands in a
 // caustic whose width is set by the lamp's size and the object's curvature, often far
 // below the field's direction spacing. The field (VLF §4.2) turns each of its directions'
 // light into the three directions around the turned one, so the caustic comes out blurred
 // across a direction's footprint: under the Cornell box's glass ball, the lamp's caustic
 // peak came out 2-3x too low. In cycle 1, the only light that reaches a smooth surface is
 // the emitters' own (everything else is still on its way), so the field hands exactly that
-// power over: the rays of cycle 1 that arrive on a smooth surface deposit nothing there and
-// their power is summed (per channel). This shot carries it on instead, with exact turns:
+// power over: the rays of cycle 1 that arrive on such a face (caustic_faces) deposit nothing
+// there and their power is summed (per channel). This shot carries it on instead, with exact
+// turns:
 //
-//   for each (lamp, smooth object) pair, K rays from points on the lamp (uniform by area)
+//   for each (lamp, object) pair, K rays from points on the lamp (uniform by area)
 //   in directions uniform over the cone of the object's bounding ball, each carrying
 //   L_e A cos(theta) Omega_cone / K: a Hammersley estimate of the lamp's radiance integrated
 //   over the object, kept only where the ray's first hit is that object's front;
@@ -47,16 +49,25 @@ struct CausticShotResult {
     std::vector<uint32_t>* landed = nullptr;  // if given: rays deposited, per texel
 };
 
+// Per face, 1 where the lamps' light is handed to the shot: the faces of smooth mirrors and
+// glass (smooth_surfaces.hpp), and the specular faces of a flat-shaded object whose specular
+// faces lie in more than one plane (a faceted ring or ball: a lens of facets, whose caustic
+// the field blurs as it does a smooth one's). A mirror of one plane stays the field's: its
+// image sources are the field's own transport (VLF §4.2-4.3).
+std::vector<uint8_t> caustic_faces(const Scene& scene, const SmoothSurfaces& surfaces);
+
 class LampCaustics {
   public:
-    // `skip`: emitting charts that do not send through the field (small_emitters.hpp).
-    // `rays`: K, the rays of each (lamp, smooth object) pair.
+    // `caustic`: caustic_faces(). `skip`: emitting charts that do not send through the field
+    // (small_emitters.hpp). `rays`: K, the rays of each (lamp, object) pair.
     LampCaustics(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-                 const SmoothSurfaces& surfaces, const std::vector<int>& skip, uint64_t rays);
+                 const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
+                 const std::vector<int>& skip, uint64_t rays);
 
     // Every ray of the shot: (lamp, object) pairs times K; 0 when the scene has no lamp
     // that sends through the field or no smooth specular object.
     uint64_t rays() const { return m_rays * uint64_t(m_pairs.size()); }
+    size_t pairs() const { return m_pairs.size(); }
     // The power rays [k0, k1) bring to their objects (unscaled): the estimate.
     Rgb estimate(uint64_t k0, uint64_t k1) const;
     // Traces rays [k0, k1), each scaled per channel by `scale` (handed / estimated).
@@ -83,6 +94,7 @@ class LampCaustics {
     const RayCaster& m_caster;
     const TextureMaps& m_tex;
     const SmoothSurfaces& m_surfaces;
+    const std::vector<uint8_t>& m_caustic;
     uint64_t m_rays;
     std::vector<Pair> m_pairs;
 };
@@ -93,10 +105,11 @@ class LampCaustics {
 // bring E of its T (the field's deposit there plus E) would hold E / sqrt(n) of noise
 // (independent rays; the Hammersley set does better); the light-weighted mean of
 // (E / T)^2 / n over the pilot's texels, over noise^2, is the factor on the pilot's count
-// (at least 2^18, at most 2^24 rays). The pilot runs in fixed chunks added in order: the same
-// count on every rank and thread count.
+// (at least 2^18, at most 2^24 rays per pair; with many pairs, at most 2^20 pilot rays and
+// 2^25 shot rays in all, and at least 2^12 per pair). The pilot runs in fixed chunks added
+// in order: the same count on every rank and thread count.
 uint64_t lamp_caustic_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-                           const SmoothSurfaces& surfaces, const std::vector<int>& skip,
-                           double noise);
+                           const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
+                           const std::vector<int>& skip, double noise);
 
 }  // namespace vlf

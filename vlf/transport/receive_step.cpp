@@ -284,7 +284,7 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         const Received r = gather_received(pc, g, frags, w.in);
         if (surfaces.of_face[f] >= 0) {
             // A smooth surface's rays, lit or not (the source's window is the whole surface).
-            if (pc.hand_smooth) {
+            if (pc.hand_caustics) {
                 // Cycle 1: the lamps' direct light, carried on by the lamp caustics' shot.
                 res.handed += r.power;
                 for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
@@ -300,6 +300,10 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
             continue;
         }
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
+        if (pc.hand_caustics && pc.caustic_faces[f]) {
+            res.handed += r.power;  // a faceted lens: cycle 1's lamp light goes to the shot
+            continue;
+        }
         // What is neither reflected diffusely (by the texels' albedo, which a texture
         // varies) nor specularly is absorbed.
         const Rgb reflected =

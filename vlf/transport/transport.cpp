@@ -162,10 +162,11 @@ void Transport::shoot_lights(const RayCaster& caster) {
 
 void Transport::shoot_lamp_caustics(const RayCaster& caster) {
     const Stopwatch shot;
-    m_hand_smooth = false;
-    const uint64_t per_pair = lamp_caustic_rays(m_scene, caster, m_tex, m_surfaces,
+    m_hand_caustics = false;
+    const uint64_t per_pair = lamp_caustic_rays(m_scene, caster, m_tex, m_surfaces, m_caustic_faces,
                                                 m_small_emitters, m_params.caustic_noise);
-    const LampCaustics caustics(m_scene, caster, m_tex, m_surfaces, m_small_emitters, per_pair);
+    const LampCaustics caustics(m_scene, caster, m_tex, m_surfaces, m_caustic_faces,
+                                m_small_emitters, per_pair);
     const uint64_t K = caustics.rays(), chunks = uint64_t(m_params.chunks);
     // The rays' estimate of the handed power, in fixed chunks added in order: the same on
     // every rank and thread count.
@@ -255,7 +256,8 @@ void Transport::run_pass(int pass, double share) {
                          .senders = senders,
                          .share = share,
                          .true_directions = pass == 0,
-                         .hand_smooth = m_hand_smooth,
+                         .hand_caustics = m_hand_caustics,
+                         .caustic_faces = m_caustic_faces,
                          .surface_plans = keep_plans ? &m_surface_plans : nullptr,
                          .surface_arrivals = keep_arrivals ? &m_arrivals : nullptr,
                          .s = s,
@@ -362,7 +364,9 @@ void Transport::run_cycle(bool last) {
     std::unique_ptr<RayCaster> caster;
     if (e.cycle == 1) {
         load_emission(m_running);
-        const bool smooth = m_params.caustic_noise > 0.0 && !m_surfaces.empty();
+        const bool smooth =
+            m_params.caustic_noise > 0.0 &&
+            std::find(m_caustic_faces.begin(), m_caustic_faces.end(), 1) != m_caustic_faces.end();
         if (!m_small_emitters.empty() || !m_scene.lights.empty() || smooth)
             caster = std::make_unique<RayCaster>(m_scene);
         if (caster != nullptr) {
@@ -371,8 +375,9 @@ void Transport::run_cycle(bool last) {
         }
         // Some lamp sends through the field and meets a smooth object (a pair).
         if (smooth)
-            m_hand_smooth =
-                LampCaustics(m_scene, *caster, m_tex, m_surfaces, m_small_emitters, 1).rays() > 0;
+            m_hand_caustics = LampCaustics(m_scene, *caster, m_tex, m_surfaces, m_caustic_faces,
+                                           m_small_emitters, 1)
+                                  .rays() > 0;
     }
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
@@ -384,7 +389,7 @@ void Transport::run_cycle(bool last) {
     const int passes = perturb ? int(m_passes.size()) : 1;
     for (int p = 0; p < passes; ++p) run_pass(p, 1.0 / double(passes));
     if (perturb && e.cycle == m_params.perturb_cycles) release_perturbed_geometry();
-    if (m_hand_smooth) shoot_lamp_caustics(*caster);
+    if (m_hand_caustics) shoot_lamp_caustics(*caster);
 
     // End of cycle: pool, filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
     sw.lap();

@@ -226,7 +226,8 @@ class Transport {
     std::vector<int> m_small_emitters;     // charts that shoot by ray casting
     std::vector<Rgb> m_light_next;         // cycle 1: the lights' share of P^N (shoot_lights)
     LightBeamStats m_light_stats;          // the lights' beams (shoot_lights)
-    bool m_hand_smooth = false;            // cycle 1: smooth surfaces hand their light over
+    std::vector<uint8_t> m_caustic_faces;  // per face: hands the lamps' light to the shot
+    bool m_hand_caustics = false;          // cycle 1: those faces hand their light over
     Rgb m_handed{0.0};                     // ... what they handed (ChunkResult::handed)
     CausticStats m_caustic_stats;          // the lamp caustics' shot
     std::vector<FaceInTexels> m_polygons;  // per face: its polygon in its chart's texels

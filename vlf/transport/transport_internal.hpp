@@ -188,9 +188,10 @@ struct PassContext {
     const Senders& senders;
     double share;          // 1 / the passes of the cycle: what each pass sends of a share
     bool true_directions;  // pass 0: radiance maps are read and written
-    // Cycle 1 with a lamp caustics' shot: what arrives on smooth surfaces is handed to it
-    // (lamp_caustics.hpp), summed in ChunkResult::handed.
-    bool hand_smooth;
+    // Cycle 1 with a lamp caustics' shot: what arrives on the faces `caustic_faces` marks is
+    // handed to it (lamp_caustics.hpp), summed in ChunkResult::handed.
+    bool hand_caustics;
+    const std::vector<uint8_t>& caustic_faces;
     // Per (direction, smooth surface, side): the plans of its sources, kept from cycle to
     // cycle; null where they are made afresh each time (the perturbed passes).
     std::vector<SurfacePlan>* surface_plans;

@@ -6,6 +6,7 @@
 
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/rotation.hpp"
+#include "vlf/transport/lamp_caustics.hpp"
 #include "vlf/transport/perturbation.hpp"
 #include "vlf/transport/small_emitters.hpp"
 #include "vlf/transport/transport_internal.hpp"
@@ -140,6 +141,7 @@ Transport::Transport(const Scene& scene, const PropagateParams& params, Ranks& r
     m_coverage =
         measure_coverage(scene, m_rot, params.field.resolution, params.field.tile, measured);
     m_surfaces = find_smooth_surfaces(scene, m_dirs, m_coverage);
+    m_caustic_faces = caustic_faces(scene, m_surfaces);
     if (params.cache_budget_mib > 0)  // (kept only with a cache budget, as the geometry)
         m_surface_plans.resize(size_t(m_dirs.size()) * size_t(m_surfaces.size()) * 2);
     m_passes.resize(size_t(params.perturbations) + 1);
