@@ -276,7 +276,8 @@ int main(int argc, char** argv) {
                    "irradiance land coarse (0 = all split to half a texel)")
         ->capture_default_str();
     app.add_option("--caustic-noise", o.params.caustic_noise,
-                   "The lamps' light on smooth mirrors and glass is ray traced on with enough rays "
+                   "The lamps' light on curved (smooth or faceted) mirrors and glass is ray traced "
+                   "on with enough rays "
                    "for about this relative noise in the texels it lights (0 = the field "
                    "carries it)")
         ->capture_default_str();

@@ -175,8 +175,9 @@ double mirrored_lamp_irradiance(double x, double z, double h, double L, double r
 //   factors' bound (TransportFormFactor);
 // - the shot carries the handed power, so the ceiling holds the closed form times
 //   handed / Phi: its total within 0.5 % of that, and per lit texel (a tenth of the peak or
-//   more) RMS within 3 %: the shot's rays are counted for 2 % noise
-//   (PropagateParams::caustic_noise).
+//   more) RMS within 3 %: the pilot counts the shot's rays for 2 % noise
+//   (PropagateParams::caustic_noise), weighted by the texels' light, as if the rays were
+//   independent; unweighted over these texels the dimmer ones count more, hence the margin.
 // Reflected about the wrong normal, weighted without the lamp's cosine, or landing a texel
 // off, it fails by far more.
 TEST(SmoothField, LampsLightOnASmoothMirrorLandsAsItsImageSays) {

@@ -7,6 +7,7 @@
 
 #include "vlf/core/parallel.hpp"
 #include "vlf/scene/glass.hpp"
+#include "vlf/scene/sealed_areas.hpp"
 #include "vlf/scene/specular_turn.hpp"
 #include "vlf/transport/small_emitters.hpp"
 
@@ -83,8 +84,14 @@ struct Walk {
             if (texel >= 0) {
                 diffuse =
                     power * (c.texel_albedo.empty() ? m.diffuse : c.texel_albedo[size_t(texel)]);
-                out.next[tex.begin(c.id) + size_t(texel)] += diffuse;
-                if (out.landed != nullptr) ++(*out.landed)[tex.begin(c.id) + size_t(texel)];
+                // A texel sealed behind another face has no open area to hold light: what it
+                // reflects goes to the sealing face's black back (receive_step's rule).
+                if (!c.texel_open.empty() && c.texel_open[size_t(texel)] < kSealedTexel) {
+                    out.absorbed_back += diffuse;
+                } else {
+                    out.next[tex.begin(c.id) + size_t(texel)] += diffuse;
+                    if (out.landed != nullptr) ++(*out.landed)[tex.begin(c.id) + size_t(texel)];
+                }
             }
         }
         const Rgb reflected = m.is_specular() ? power * m.specular : Rgb(0.0);
@@ -108,9 +115,12 @@ std::vector<uint8_t> caustic_faces(const Scene& scene, const SmoothSurfaces& sur
         bool curved = false;
     };
     std::vector<Plane> planes(scene.objects.size());
+    // Pure mirrors and glass only: a face that also reflects diffusely keeps the field's
+    // exact clipping of the lamp's light on it.
     const auto flat_specular = [&](const Face& f) {
         const Material& m = scene.material_of(f);
-        return surfaces.of_face[size_t(f.id)] < 0 && m.is_specular() && !m.is_emitter();
+        return surfaces.of_face[size_t(f.id)] < 0 && m.is_specular() && !m.is_emitter() &&
+               !m.is_diffuse();
     };
     for (const Face& f : scene.faces) {
         if (!flat_specular(f)) continue;
@@ -120,8 +130,10 @@ std::vector<uint8_t> caustic_faces(const Scene& scene, const SmoothSurfaces& sur
             continue;
         }
         const Face& g = scene.faces[size_t(p.first)];
-        const bool same = std::abs(glm::dot(f.normal, g.normal)) > 1.0 - 1e-9 &&
-                          std::abs(glm::dot(g.normal, f.vertices[0] - g.vertices[0])) < 1e-9;
+        // The scene is in the unit ball: 1e-6 is far below any facet and above the rounding
+        // of single-precision mesh data.
+        const bool same = std::abs(glm::dot(f.normal, g.normal)) > 1.0 - 1e-6 &&
+                          std::abs(glm::dot(g.normal, f.vertices[0] - g.vertices[0])) < 1e-6;
         p.curved = p.curved || !same;
     }
     for (const Face& f : scene.faces)

@@ -24,7 +24,10 @@ struct NumericalLoss {
     Rgb rounding{0.0};         // reflected power that single-precision radiance maps
                                // did not keep (deposited minus stored; either sign)
     Rgb cut_beam{0.0};         // a light's beam reflected from beyond its mirror's rim (a beam
-                               // across the rim, finer than an edge is resolved; light_beams.hpp)
+                               // across the rim, finer than an edge is resolved; light_beams.hpp);
+                               // a beam's or a lamp caustic ray's branch split by glass below
+                               // 10^-3 of its power; light handed to the lamp caustics' shot in
+                               // a channel its rays did not find (lamp_caustics.hpp)
     Rgb total() const {
         return sealed + empty_footprint + grazing_mirror + subpixel_mirror + rounding + cut_beam;
     }

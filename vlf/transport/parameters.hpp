@@ -48,7 +48,8 @@ struct PropagateParams {
     // Delta lights' beams dimmer than this fraction of their light's mean irradiance land
     // coarse (light_beams.hpp "Dim beams"); 0: every beam is split to half a texel.
     double light_dim = 1e-3;
-    // The lamps' direct light on smooth mirrors and glass is carried on by ray tracing in
+    // The lamps' direct light on curved (smooth or faceted) mirrors and glass is carried on by
+    // ray tracing in
     // cycle 1 (lamp_caustics.hpp), with enough rays that the relative noise they leave in the
     // texels they light is about this (RMS, weighted by the texels' light); 0: the field
     // carries that light instead.

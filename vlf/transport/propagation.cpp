@@ -213,15 +213,17 @@ nlohmann::json propagation_report(const Scene& scene, const PropagateParams& par
                                  {"leaf_beams", t.light_beams().leaves},
                                  {"seconds", t.light_beams().seconds}};
     if (const CausticStats& cs = t.lamp_caustics(); cs.rays > 0) {
-        // The lamps' light on smooth surfaces (lamp_caustics.hpp): the field's power handed
-        // over, and the rays' own estimate of it per channel (1 = they agree).
+        // The lamps' light on curved mirrors and glass (lamp_caustics.hpp): the field's power
+        // handed over, and the rays' own estimate of it per channel (1 = they agree; null:
+        // nothing handed in that channel).
         const double u = t.to_user_power();
-        Rgb ratio(0.0);
+        nlohmann::json ratio = nlohmann::json::array();
         for (int c = 0; c < 3; ++c)
-            if (cs.handed[c] > 0) ratio[c] = cs.estimated[c] / cs.handed[c];
+            ratio.push_back(cs.handed[c] > 0 ? nlohmann::json(cs.estimated[c] / cs.handed[c])
+                                             : nlohmann::json());
         report["lamp_caustics"] = {{"rays", cs.rays},
                                    {"handed", {cs.handed.x * u, cs.handed.y * u, cs.handed.z * u}},
-                                   {"estimate_over_handed", {ratio.x, ratio.y, ratio.z}},
+                                   {"estimate_over_handed", ratio},
                                    {"seconds", cs.seconds}};
     }
     if (!run.ranks.is_null()) {

@@ -163,6 +163,7 @@ void Transport::shoot_lights(const RayCaster& caster) {
 void Transport::shoot_lamp_caustics(const RayCaster& caster) {
     const Stopwatch shot;
     m_hand_caustics = false;
+    if (m_handed == Rgb(0.0)) return;  // no ray of the field reached those faces
     const uint64_t per_pair = lamp_caustic_rays(m_scene, caster, m_tex, m_surfaces, m_caustic_faces,
                                                 m_small_emitters, m_params.caustic_noise);
     const LampCaustics caustics(m_scene, caster, m_tex, m_surfaces, m_caustic_faces,
@@ -185,8 +186,13 @@ void Transport::shoot_lamp_caustics(const RayCaster& caster) {
         else
             m_running.lost.cut_beam[ch] += m_handed[ch];
     }
-    // Like the lights' deposits, the shot's join P^N after the rim pooling and the filter,
-    // which are there for the field's beams: a caustic is sharper than the filter.
+    m_caustic_stats = {int64_t(K), m_handed, estimated, 0.0};
+    m_handed = Rgb(0.0);
+    if (scale == Rgb(0.0)) return;
+    // Like the lights' deposits, the shot's join P^N after the filter, which is there for
+    // the field's beams: a caustic is sharper than the filter. Its rays land in the texel
+    // under each hit, so a rim texel's sliver gets few of them: the rim pools share those
+    // out by area, as they do the field's (rim_pools.hpp).
     std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
     std::swap(held, m_tex.next);
     PassSources none;
@@ -200,11 +206,11 @@ void Transport::shoot_lamp_caustics(const RayCaster& caster) {
             res.lost = out.lost;
         },
         none);
+    pool_rim_texels(m_pools, m_scene, m_tex, m_tex.next);
     if (m_light_next.empty()) m_light_next.assign(m_tex.texels(), Rgb(0.0));
     for (size_t t = 0; t < m_light_next.size(); ++t) m_light_next[t] += m_tex.next[t];
     m_tex.next = std::move(held);
-    m_caustic_stats = {int64_t(K), m_handed, estimated, shot.seconds()};
-    m_handed = Rgb(0.0);
+    m_caustic_stats.seconds = shot.seconds();
     m_timings.passes += shot.seconds();
 }
 
