@@ -50,6 +50,7 @@ struct Walk {
         arrive(hit, dir, power, bounce);
     }
 
+    // `bounce` 0: the ray's first hit, whose segment first_ray has attenuated already.
     void arrive(const RayHit& hit, const Vec3& dir, Rgb power, int bounce) const {
         const Face& f = scene.faces[hit.face];
         if (glm::dot(f.normal, dir) >= 0.0) {
@@ -60,7 +61,7 @@ struct Walk {
         if (m.dielectric) {
             // Glass (docs/propagation.md §13): Beer-Lambert over the segment that ended on
             // an inner face, then Fresnel's split, both branches followed.
-            const Rgb kept = power * glass_transmittance(scene, f, hit.t);
+            const Rgb kept = bounce == 0 ? power : power * glass_transmittance(scene, f, hit.t);
             out.absorbed += power - kept;
             if (bounce >= LampCaustics::kMaxBounces) {
                 out.absorbed += kept;
@@ -213,9 +214,12 @@ bool LampCaustics::first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayH
     if (met.object != p.object || !m_caustic[size_t(hit.face)] || glm::dot(met.normal, dir) >= 0.0)
         return false;  // the field's light: not this object's
     const double solid_angle = 2.0 * kPi * (1.0 - cos_max);
-    // L_e A cos(theta) Omega / K: the lamp's exitance integral, sampled uniformly.
-    power =
-        m_scene.material_of(lamp).emission * (lamp.area * cos_lamp * solid_angle / double(m_rays));
+    // L_e A cos(theta) Omega / K: the lamp's exitance integral, sampled uniformly; a lamp
+    // inside absorbing glass loses exp(-sigma d) on the way, as the field's rays do
+    // (attenuate_step) before they hand their power over.
+    power = m_scene.material_of(lamp).emission *
+            (lamp.area * cos_lamp * solid_angle / double(m_rays)) *
+            glass_transmittance(m_scene, met, hit.t);
     return true;
 }
 
