@@ -233,6 +233,32 @@ TEST(RenderAccuracy, CornellMirrorsAwayFromEmitters) {
     expect_accurate("scenes/cornell-mirrors.json", "cornell-mirrors-pathtrace-128.exr");
 }
 
+// A finished propagation of `scene`: its ledger closes in every cycle, and its texture-mode
+// image of the first camera is within `rmse_away` relative RMSE of the reference away from
+// emitters, its mean there within kMaxRatioOff per channel.
+void expect_texture_near(const Scene& scene, const PropagateParams& p, const Propagation& run,
+                         const std::string& reference_file, const char* what, double rmse_away) {
+    for (const LedgerEntry& e : run.transport->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
+    const Bake bake = make_bake(scene, p, *run.transport, propagation_report(scene, p, run, 0.0));
+    const Renderer r(bake);
+    const Camera& cam = scene.cameras.at(0);
+    const Image ref = reference(reference_file);
+    RenderSettings s;
+    s.width = ref.width;
+    s.height = ref.height;
+    s.mode = RenderMode::Texture;
+    s.pixel_samples = kPixelSamples;
+    const Image im = r.render(cam, s);
+    const ImageError e =
+        image_error(im, ref, r.emitter_mask(cam, ref.width, ref.height, kPixelSamples));
+    std::printf(
+        "%s: texture against the path tracer, RMSE away from emitters %.4f (%zu of %zu "
+        "pixels), mean ratio %.4f %.4f %.4f\n",
+        what, e.rmse_away, e.away_pixels, e.pixels, e.ratio_away.x, e.ratio_away.y, e.ratio_away.z);
+    EXPECT_LE(e.rmse_away, rmse_away);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.ratio_away[c], 1.0, kMaxRatioOff) << "channel " << c;
+}
+
 // Issue 14: the glass ball on the Cornell box floor under a point light of the lamp's power
 // (the classic focused caustic), baked at the default field with 8 cycles, against the path
 // tracer (its light tracer finds the caustic): texture mode within the issue's 10 % relative
@@ -245,25 +271,8 @@ TEST(RenderAccuracy, CornellGlassBallUnderAPointLight) {
     PropagateParams p;
     p.cycles = 8;
     const Propagation run = propagate(scene, p, {});
-    for (const LedgerEntry& e : run.transport->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
-    const Bake bake = make_bake(scene, p, *run.transport, propagation_report(scene, p, run, 0.0));
-    const Renderer r(bake);
-    const Camera& cam = scene.cameras.at(0);
-    const Image ref = reference("cornell-glass-point-pathtrace-128.exr");
-    RenderSettings s;
-    s.width = ref.width;
-    s.height = ref.height;
-    s.mode = RenderMode::Texture;
-    s.pixel_samples = kPixelSamples;
-    const Image im = r.render(cam, s);
-    const ImageError e =
-        image_error(im, ref, r.emitter_mask(cam, ref.width, ref.height, kPixelSamples));
-    std::printf(
-        "glass ball under a point light: texture against the path tracer, RMSE away "
-        "from emitters %.4f (%zu of %zu pixels), mean ratio %.4f %.4f %.4f\n",
-        e.rmse_away, e.away_pixels, e.pixels, e.ratio_away.x, e.ratio_away.y, e.ratio_away.z);
-    EXPECT_LE(e.rmse_away, 0.10);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.ratio_away[c], 1.0, kMaxRatioOff) << "channel " << c;
+    expect_texture_near(scene, p, run, "cornell-glass-point-pathtrace-128.exr",
+                        "glass ball under a point light", 0.10);
 }
 
 // Issue 14: the glass ball on the Cornell box floor under its ceiling lamp. The caustic the
@@ -289,25 +298,8 @@ TEST(RenderAccuracy, CornellGlassBallUnderTheCeilingLamp) {
     const CausticStats& cs = run.transport->lamp_caustics();
     ASSERT_GT(cs.rays, 0);
     EXPECT_NEAR(cs.estimated.x / cs.handed.x, 1.0, 0.03);
-    for (const LedgerEntry& e : run.transport->ledger()) EXPECT_LE(e.relative_error(), 1e-9);
-    const Bake bake = make_bake(scene, p, *run.transport, propagation_report(scene, p, run, 0.0));
-    const Renderer r(bake);
-    const Camera& cam = scene.cameras.at(0);
-    const Image ref = reference("cornell-glass-pathtrace-128.exr");
-    RenderSettings s;
-    s.width = ref.width;
-    s.height = ref.height;
-    s.mode = RenderMode::Texture;
-    s.pixel_samples = kPixelSamples;
-    const Image im = r.render(cam, s);
-    const ImageError e =
-        image_error(im, ref, r.emitter_mask(cam, ref.width, ref.height, kPixelSamples));
-    std::printf(
-        "glass ball under the ceiling lamp: texture against the path tracer, RMSE away "
-        "from emitters %.4f (%zu of %zu pixels), mean ratio %.4f %.4f %.4f\n",
-        e.rmse_away, e.away_pixels, e.pixels, e.ratio_away.x, e.ratio_away.y, e.ratio_away.z);
-    EXPECT_LE(e.rmse_away, 0.05);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e.ratio_away[c], 1.0, kMaxRatioOff) << "channel " << c;
+    expect_texture_near(scene, p, run, "cornell-glass-pathtrace-128.exr",
+                        "glass ball under the ceiling lamp", 0.05);
 }
 
 // Issue 11: however small the lamp, its power enters the field. The empty Cornell box lit

@@ -34,7 +34,7 @@ struct Walk {
     const SmoothSurfaces& surfaces;
     const TextureMaps& tex;
     double floor;  // branches carrying less than this (any channel) are cut
-    CausticShotResult& out;
+    ShotResult& out;
 
     void go(const Vec3& from, const Vec3& dir, const Rgb& power, int bounce) const {
         if (largest(power) < floor) {
@@ -145,14 +145,8 @@ std::vector<uint8_t> caustic_faces(const Scene& scene, const SmoothSurfaces& sur
 
 LampCaustics::LampCaustics(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
                            const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
-                           const std::vector<int>& skip, uint64_t rays)
-    : m_scene(scene),
-      m_caster(caster),
-      m_tex(tex),
-      m_surfaces(surfaces),
-      m_caustic(caustic),
-      m_rays(rays) {
-    if (rays == 0) return;
+                           const std::vector<int>& skip)
+    : m_scene(scene), m_caster(caster), m_tex(tex), m_surfaces(surfaces), m_caustic(caustic) {
     // The objects with faces that take part, and their bounding balls (about the boxes of
     // those faces).
     std::vector<Vec3> lo(scene.objects.size(), Vec3(1e300)), hi(scene.objects.size(), Vec3(-1e300));
@@ -184,9 +178,10 @@ LampCaustics::LampCaustics(const Scene& scene, const RayCaster& caster, const Te
     }
 }
 
-bool LampCaustics::first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayHit& hit) const {
-    const Pair& p = m_pairs[size_t(k / m_rays)];
-    const uint64_t j = k % m_rays;
+bool LampCaustics::first_ray(uint64_t K, uint64_t k, Vec3& from, Vec3& dir, Rgb& power,
+                             RayHit& hit) const {
+    const Pair& p = m_pairs[size_t(k / K)];
+    const uint64_t j = k % K;
     const Chart& lamp = m_scene.charts[size_t(p.chart)];
     // Hammersley: (j + 1/2) / K and base 2 for the direction in the cone, bases 3, 5, 7
     // for the point on the lamp.
@@ -200,7 +195,7 @@ bool LampCaustics::first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayH
     const double cos_max =
         dist > p.radius ? std::sqrt(1.0 - (p.radius / dist) * (p.radius / dist)) : -1.0;
     const Vec3 axis = dist > 0.0 ? to / dist : m_scene.faces[size_t(face)].normal;
-    const double u1 = (double(j) + 0.5) / double(m_rays), u2 = radical_inverse(j, 2);
+    const double u1 = (double(j) + 0.5) / double(K), u2 = radical_inverse(j, 2);
     const double cos_t = 1.0 - u1 * (1.0 - cos_max);
     const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
     Vec3 t, b;
@@ -217,41 +212,39 @@ bool LampCaustics::first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayH
     // L_e A cos(theta) Omega / K: the lamp's exitance integral, sampled uniformly; a lamp
     // inside absorbing glass loses exp(-sigma d) on the way, as the field's rays do
     // (attenuate_step) before they hand their power over.
-    power = m_scene.material_of(lamp).emission *
-            (lamp.area * cos_lamp * solid_angle / double(m_rays)) *
+    power = m_scene.material_of(lamp).emission * (lamp.area * cos_lamp * solid_angle / double(K)) *
             glass_transmittance(m_scene, met, hit.t);
     return true;
 }
 
-Rgb LampCaustics::estimate(uint64_t k0, uint64_t k1) const {
+Rgb LampCaustics::estimate(uint64_t K, uint64_t k0, uint64_t k1) const {
     Rgb sum(0.0);
     Vec3 from, dir;
     Rgb power;
     RayHit hit;
     for (uint64_t k = k0; k < k1; ++k)
-        if (first_ray(k, from, dir, power, hit)) sum += power;
+        if (first_ray(K, k, from, dir, power, hit)) sum += power;
     return sum;
 }
 
-void LampCaustics::shoot(uint64_t k0, uint64_t k1, const Rgb& scale, CausticShotResult& out) const {
+void LampCaustics::shoot(uint64_t K, uint64_t k0, uint64_t k1, const Rgb& scale,
+                         ShotResult& out) const {
     Vec3 from, dir;
     Rgb power;
     RayHit hit;
     for (uint64_t k = k0; k < k1; ++k) {
-        if (!first_ray(k, from, dir, power, hit)) continue;
+        if (!first_ray(K, k, from, dir, power, hit)) continue;
         power *= scale;
         const Walk walk{m_scene, m_caster, m_surfaces, m_tex, kMinWeight * largest(power), out};
         walk.arrive(hit, dir, power, 0);
     }
 }
 
-uint64_t lamp_caustic_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-                           const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
-                           const std::vector<int>& skip, double noise) {
+uint64_t LampCaustics::rays_for(double noise) const {
     constexpr int kPilotChunks = 4;
     // Per pair: the pilot's 2^16 rays and the shot's 2^18 to 2^24, fewer when there are so
     // many pairs that the shot would pass 2^25 rays in all (the pilot 2^20).
-    const size_t pairs = LampCaustics(scene, caster, tex, surfaces, caustic, skip, 1).pairs();
+    const size_t pairs = m_pairs.size();
     if (pairs == 0) return 0;
     const auto share = [&](int total_log2, int each_log2) {
         return std::max<uint64_t>(
@@ -260,17 +253,17 @@ uint64_t lamp_caustic_rays(const Scene& scene, const RayCaster& caster, const Te
     };
     const uint64_t kPilot = share(20, 16), kMax = share(25, 24);
     const uint64_t kMin = std::min(uint64_t(1) << 18, kMax);
-    const LampCaustics pilot(scene, caster, tex, surfaces, caustic, skip, kPilot);
-    const uint64_t K = pilot.rays();
+    const TextureMaps& tex = m_tex;
+    const uint64_t K = kPilot * pairs;
     std::vector<std::vector<Rgb>> lit(kPilotChunks);
     std::vector<std::vector<uint32_t>> landed(kPilotChunks);
     parallel_for(0, kPilotChunks, [&](long c) {
         lit[size_t(c)].assign(tex.texels(), Rgb(0.0));
         landed[size_t(c)].assign(tex.texels(), 0);
-        CausticShotResult out{lit[size_t(c)]};
+        ShotResult out{lit[size_t(c)]};
         out.landed = &landed[size_t(c)];
-        pilot.shoot(K * uint64_t(c) / kPilotChunks, K * uint64_t(c + 1) / kPilotChunks, Rgb(1.0),
-                    out);
+        shoot(kPilot, K * uint64_t(c) / kPilotChunks, K * uint64_t(c + 1) / kPilotChunks, Rgb(1.0),
+              out);
     });
     double weighted = 0.0, weight = 0.0;
     for (size_t t = 0; t < tex.texels(); ++t) {

@@ -36,18 +36,10 @@
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/scene/scene.hpp"
 #include "vlf/transport/ledger.hpp"
+#include "vlf/transport/small_emitters.hpp"
 #include "vlf/transport/smooth_surfaces.hpp"
 
 namespace vlf {
-
-// What a share of the shot deposits, in normalised power units (ledger.hpp).
-struct CausticShotResult {
-    explicit CausticShotResult(std::vector<Rgb>& n) : next(n) {}
-    std::vector<Rgb>& next;  // P^N per texel (TextureMaps order)
-    Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
-    NumericalLoss lost;
-    std::vector<uint32_t>* landed = nullptr;  // if given: rays deposited, per texel
-};
 
 // Per face, 1 where the lamps' light is handed to the shot: the faces of smooth mirrors and
 // glass (smooth_surfaces.hpp), and the specular faces of a flat-shaded object whose specular
@@ -59,19 +51,30 @@ std::vector<uint8_t> caustic_faces(const Scene& scene, const SmoothSurfaces& sur
 class LampCaustics {
   public:
     // `caustic`: caustic_faces(). `skip`: emitting charts that do not send through the field
-    // (small_emitters.hpp). `rays`: K, the rays of each (lamp, object) pair.
+    // (small_emitters.hpp).
     LampCaustics(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
                  const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
-                 const std::vector<int>& skip, uint64_t rays);
+                 const std::vector<int>& skip);
 
-    // Every ray of the shot: (lamp, object) pairs times K; 0 when the scene has no lamp
-    // that sends through the field or no smooth specular object.
-    uint64_t rays() const { return m_rays * uint64_t(m_pairs.size()); }
+    // The (lamp, object) pairs; none when no lamp sends through the field or no face hands
+    // its light over. A shot of K rays per pair has pairs() x K rays, pair by pair.
     size_t pairs() const { return m_pairs.size(); }
-    // The power rays [k0, k1) bring to their objects (unscaled): the estimate.
-    Rgb estimate(uint64_t k0, uint64_t k1) const;
-    // Traces rays [k0, k1), each scaled per channel by `scale` (handed / estimated).
-    void shoot(uint64_t k0, uint64_t k1, const Rgb& scale, CausticShotResult& out) const;
+    // How many rays each pair needs for the shot to leave about `noise` relative noise in
+    // the texels it lights, `tex.next` holding the field's cycle-1 deposits: a pilot of
+    // 2^16 rays per pair shows where its light lands and how densely. A texel that n pilot
+    // rays bring E of its T (the field's deposit there plus E) would hold E / sqrt(n) of
+    // noise (independent rays; the Hammersley set does better); the light-weighted mean of
+    // (E / T)^2 / n over the pilot's texels, over noise^2, is the factor on the pilot's
+    // count (at least 2^18, at most 2^24 rays per pair; with many pairs, at most 2^20 pilot
+    // rays and 2^25 shot rays in all, and at least 2^12 per pair). The pilot runs in fixed
+    // chunks added in order: the same count on every rank and thread count.
+    uint64_t rays_for(double noise) const;
+    // The power rays [k0, k1) of a K-ray shot bring to their objects (unscaled): the
+    // estimate.
+    Rgb estimate(uint64_t K, uint64_t k0, uint64_t k1) const;
+    // Traces rays [k0, k1) of a K-ray shot, each scaled per channel by `scale` (handed /
+    // estimated).
+    void shoot(uint64_t K, uint64_t k0, uint64_t k1, const Rgb& scale, ShotResult& out) const;
 
     // A branch split by glass is followed while it carries at least this part of its
     // ray's power; the rest is booked as lost.cut_beam (as light_beams.hpp does).
@@ -88,28 +91,14 @@ class LampCaustics {
     };
     // Ray k's start, direction and power (unscaled); false when it carries nothing (its
     // direction below the lamp's plane, or its first hit not on the pair's object's front).
-    bool first_ray(uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayHit& hit) const;
+    bool first_ray(uint64_t K, uint64_t k, Vec3& from, Vec3& dir, Rgb& power, RayHit& hit) const;
 
     const Scene& m_scene;
     const RayCaster& m_caster;
     const TextureMaps& m_tex;
     const SmoothSurfaces& m_surfaces;
     const std::vector<uint8_t>& m_caustic;
-    uint64_t m_rays;
     std::vector<Pair> m_pairs;
 };
-
-// How many rays each (lamp, object) pair needs for the shot to leave about `noise` relative
-// noise in the texels it lights, `tex.next` holding the field's cycle-1 deposits: a pilot of
-// 2^16 rays per pair shows where its light lands and how densely. A texel that n pilot rays
-// bring E of its T (the field's deposit there plus E) would hold E / sqrt(n) of noise
-// (independent rays; the Hammersley set does better); the light-weighted mean of
-// (E / T)^2 / n over the pilot's texels, over noise^2, is the factor on the pilot's count
-// (at least 2^18, at most 2^24 rays per pair; with many pairs, at most 2^20 pilot rays and
-// 2^25 shot rays in all, and at least 2^12 per pair). The pilot runs in fixed chunks added
-// in order: the same count on every rank and thread count.
-uint64_t lamp_caustic_rays(const Scene& scene, const RayCaster& caster, const TextureMaps& tex,
-                           const SmoothSurfaces& surfaces, const std::vector<uint8_t>& caustic,
-                           const std::vector<int>& skip, double noise);
 
 }  // namespace vlf

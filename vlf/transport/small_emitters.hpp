@@ -17,6 +17,7 @@
 #include "vlf/field/texture_maps.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/scene/scene.hpp"
+#include "vlf/transport/ledger.hpp"
 
 namespace vlf {
 
@@ -36,10 +37,14 @@ Vec3 point_on(const Scene& scene, const Chart& c, double u, double v, double w,
 // 3 x 3 neighbourhood, else -1.
 long nearest_texel(const Chart& c, const Vec3& p);
 
-// What a share of a first shot deposits: P^N per texel, and where the rest went.
+// What a share of a first shot (this one, or the lamp caustics', lamp_caustics.hpp)
+// deposits: P^N per texel, and where the rest went.
 struct ShotResult {
+    explicit ShotResult(std::vector<Rgb>& n) : next(n) {}
     std::vector<Rgb>& next;  // per texel (TextureMaps order)
     Rgb absorbed{0.0}, absorbed_back{0.0}, escaped{0.0};
+    NumericalLoss lost;
+    std::vector<uint32_t>* landed = nullptr;  // if given: rays deposited, per texel
 };
 
 // Rays [k0, k1) of the K rays of chart `chart`, carrying `power` (its unshot power) in all.

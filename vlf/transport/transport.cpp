@@ -102,6 +102,18 @@ void Transport::load_emission(LedgerEntry& e) {
     }
 }
 
+namespace {
+
+// A first shot's share of the ledger, into its chunk's result.
+void book(const ShotResult& out, ChunkResult& res) {
+    res.absorbed = out.absorbed;
+    res.absorbed_back = out.absorbed_back;
+    res.escaped = out.escaped;
+    res.lost = out.lost;
+}
+
+}  // namespace
+
 void Transport::shoot_small_emitters(const RayCaster& caster) {
     if (m_small_emitters.empty()) return;
     const Stopwatch shot;
@@ -120,9 +132,7 @@ void Transport::shoot_small_emitters(const RayCaster& caster) {
                 ShotResult out{res.next};
                 shoot_rays(m_scene, caster, m_tex, chart, power, K * uint64_t(c) / chunks,
                            K * uint64_t(c + 1) / chunks, K, out);
-                res.absorbed = out.absorbed;
-                res.absorbed_back = out.absorbed_back;
-                res.escaped = out.escaped;
+                book(out, res);
             },
             none);
     }
@@ -135,13 +145,8 @@ void Transport::shoot_lights(const RayCaster& caster) {
     const LightBeams beams(m_scene, caster, m_tex, m_polygons, m_rim_reach, m_params.light_dim);
     const int64_t K = beams.roots();
     const int64_t chunks = m_params.chunks;
-    // The lights' deposits are exact at rims and shadow edges: they join P^N after the
-    // rim pooling and the filter, which are there for the field's beams (run_cycle).
-    std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
-    std::swap(held, m_tex.next);
-    PassSources none;
-    // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
-    run_chunks(
+    // The lights' deposits are exact at rims and shadow edges: no rim pooling.
+    shoot_beside_filter(
         [&](long c, ChunkResult& res) {
             LightShotResult out{res.next};
             beams.shoot(K * c / chunks, K * (c + 1) / chunks, out);
@@ -152,28 +157,41 @@ void Transport::shoot_lights(const RayCaster& caster) {
             res.emitted = out.emitted;
             res.leaves = out.leaves;
         },
-        none);
+        false);
     m_light_stats.roots = K;
     m_light_stats.seconds = shot.seconds();
-    m_light_next = std::move(m_tex.next);
-    m_tex.next = std::move(held);
     m_timings.passes += shot.seconds();
 }
 
-void Transport::shoot_lamp_caustics(const RayCaster& caster) {
+// The lights' and the lamp caustics' deposits join P^N after the rim pooling and the filter
+// of run_cycle, which are there for the field's beams: they gather in m_light_next.
+void Transport::shoot_beside_filter(const std::function<void(long, ChunkResult&)>& compute,
+                                    bool pool) {
+    std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
+    std::swap(held, m_tex.next);
+    PassSources none;
+    // Fixed chunks reduced in order (DESIGN §5 Parallelism): any thread count, one bake.
+    run_chunks(compute, none);
+    if (pool) pool_rim_texels(m_pools, m_scene, m_tex, m_tex.next);
+    if (m_light_next.empty())
+        m_light_next = std::move(m_tex.next);
+    else
+        for (size_t t = 0; t < m_light_next.size(); ++t) m_light_next[t] += m_tex.next[t];
+    m_tex.next = std::move(held);
+}
+
+void Transport::shoot_lamp_caustics(const LampCaustics& caustics) {
     const Stopwatch shot;
     m_hand_caustics = false;
     if (m_handed == Rgb(0.0)) return;  // no ray of the field reached those faces
-    const uint64_t per_pair = lamp_caustic_rays(m_scene, caster, m_tex, m_surfaces, m_caustic_faces,
-                                                m_small_emitters, m_params.caustic_noise);
-    const LampCaustics caustics(m_scene, caster, m_tex, m_surfaces, m_caustic_faces,
-                                m_small_emitters, per_pair);
-    const uint64_t K = caustics.rays(), chunks = uint64_t(m_params.chunks);
+    const uint64_t per_pair = caustics.rays_for(m_params.caustic_noise);
+    const uint64_t K = per_pair * caustics.pairs(), chunks = uint64_t(m_params.chunks);
     // The rays' estimate of the handed power, in fixed chunks added in order: the same on
     // every rank and thread count.
     std::vector<Rgb> part(chunks, Rgb(0.0));
     parallel_for(0, long(chunks), [&](long c) {
-        part[size_t(c)] = caustics.estimate(K * uint64_t(c) / chunks, K * uint64_t(c + 1) / chunks);
+        part[size_t(c)] =
+            caustics.estimate(per_pair, K * uint64_t(c) / chunks, K * uint64_t(c + 1) / chunks);
     });
     Rgb estimated(0.0), scale(0.0);
     for (const Rgb& p : part) estimated += p;
@@ -189,27 +207,17 @@ void Transport::shoot_lamp_caustics(const RayCaster& caster) {
     m_caustic_stats = {int64_t(K), m_handed, estimated, 0.0};
     m_handed = Rgb(0.0);
     if (scale == Rgb(0.0)) return;
-    // Like the lights' deposits, the shot's join P^N after the filter, which is there for
-    // the field's beams: a caustic is sharper than the filter. Its rays land in the texel
-    // under each hit, so a rim texel's sliver gets few of them: the rim pools share those
-    // out by area, as they do the field's (rim_pools.hpp).
-    std::vector<Rgb> held(m_tex.texels(), Rgb(0.0));
-    std::swap(held, m_tex.next);
-    PassSources none;
-    run_chunks(
+    // Like the lights' deposits, the shot's skip the filter: a caustic is sharper. Its rays
+    // land in the texel under each hit, so a rim texel's sliver gets few of them: the rim
+    // pools share those out by area, as they do the field's (rim_pools.hpp).
+    shoot_beside_filter(
         [&](long c, ChunkResult& res) {
-            CausticShotResult out{res.next};
-            caustics.shoot(K * uint64_t(c) / chunks, K * uint64_t(c + 1) / chunks, scale, out);
-            res.absorbed = out.absorbed;
-            res.absorbed_back = out.absorbed_back;
-            res.escaped = out.escaped;
-            res.lost = out.lost;
+            ShotResult out{res.next};
+            caustics.shoot(per_pair, K * uint64_t(c) / chunks, K * uint64_t(c + 1) / chunks, scale,
+                           out);
+            book(out, res);
         },
-        none);
-    pool_rim_texels(m_pools, m_scene, m_tex, m_tex.next);
-    if (m_light_next.empty()) m_light_next.assign(m_tex.texels(), Rgb(0.0));
-    for (size_t t = 0; t < m_light_next.size(); ++t) m_light_next[t] += m_tex.next[t];
-    m_tex.next = std::move(held);
+        true);
     m_caustic_stats.seconds = shot.seconds();
     m_timings.passes += shot.seconds();
 }
@@ -366,24 +374,25 @@ void Transport::run_cycle(bool last) {
     e.cycle = cycles_done() + 1;
     m_ranks->set_cycle(e.cycle);
     // Cycle 1's ray casting: the first shots of small lamps and lights, and the lamps'
-    // light on smooth mirrors and glass (one scene BVH for all).
+    // light on curved mirrors and glass (one scene BVH for all).
     std::unique_ptr<RayCaster> caster;
+    std::unique_ptr<LampCaustics> caustics;
     if (e.cycle == 1) {
         load_emission(m_running);
-        const bool smooth =
+        const bool handing =
             m_params.caustic_noise > 0.0 &&
             std::find(m_caustic_faces.begin(), m_caustic_faces.end(), 1) != m_caustic_faces.end();
-        if (!m_small_emitters.empty() || !m_scene.lights.empty() || smooth)
+        if (!m_small_emitters.empty() || !m_scene.lights.empty() || handing)
             caster = std::make_unique<RayCaster>(m_scene);
         if (caster != nullptr) {
             shoot_small_emitters(*caster);
             shoot_lights(*caster);
         }
-        // Some lamp sends through the field and meets a smooth object (a pair).
-        if (smooth)
-            m_hand_caustics = LampCaustics(m_scene, *caster, m_tex, m_surfaces, m_caustic_faces,
-                                           m_small_emitters, 1)
-                                  .rays() > 0;
+        if (handing) {
+            caustics = std::make_unique<LampCaustics>(m_scene, *caster, m_tex, m_surfaces,
+                                                      m_caustic_faces, m_small_emitters);
+            m_hand_caustics = caustics->pairs() > 0;  // some lamp meets such an object
+        }
     }
     choose_deferred(last);
     for (auto& v : m_spec.unshot_next) v = RgbF(0.0f);
@@ -395,7 +404,7 @@ void Transport::run_cycle(bool last) {
     const int passes = perturb ? int(m_passes.size()) : 1;
     for (int p = 0; p < passes; ++p) run_pass(p, 1.0 / double(passes));
     if (perturb && e.cycle == m_params.perturb_cycles) release_perturbed_geometry();
-    if (m_hand_caustics) shoot_lamp_caustics(*caster);
+    if (m_hand_caustics) shoot_lamp_caustics(*caustics);
 
     // End of cycle: pool, filter, accumulate, swap (VLF §4.1 closing lines, §5 filtering).
     sw.lap();

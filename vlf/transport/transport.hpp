@@ -185,7 +185,11 @@ class Transport {
     void shoot_lights(const RayCaster& caster);
     // Cycle 1: the light the passes handed over at smooth surfaces (m_handed) is traced on
     // from the lamps (lamp_caustics.hpp), into P^N.
-    void shoot_lamp_caustics(const RayCaster& caster);
+    void shoot_lamp_caustics(const class LampCaustics& caustics);
+    // Runs a first shot's chunks (as run_chunks) into P^N of their own, rim-pooled if
+    // `pool`, and adds that to m_light_next, which joins P^N after the cycle's filter.
+    void shoot_beside_filter(
+        const std::function<void(long, transport_detail::ChunkResult&)>& compute, bool pool);
     void choose_deferred(bool last);
     // Pass 0 runs the true directions; pass p >= 1 the directions of perturbation p.
     void run_pass(int pass, double share);
