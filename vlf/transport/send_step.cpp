@@ -94,14 +94,14 @@ void send_diffuse(const PassContext& pc, const PassDirection& pd, const Chart& c
 
 // VLF §4.1 line 9 on the N x N grid: a mirror's rays add its unshot radiance
 // (`with_unshot`), and each ray's radiance adds to L_T of face f in `maps`.
-void store_rays(const PassContext& pc, const PassDirection& pd, size_t f, RadianceMaps& maps,
-                bool with_unshot, std::vector<Rgb>& out) {
+void store_rays(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
+                RadianceMaps& maps, bool with_unshot, std::vector<Rgb>& out) {
     const DirectionGeometry& g = pd.g;
     const double beam = pd.beam;
     const uint64_t mb = maps.begin(pd.d, int(f));
     VLF_CHECK(maps.count(pd.d, int(f)) == pc.coverage(pd.d, int(f)));
     uint64_t kl = 0;
-    for_fragments(g, g.frags_of(uint32_t(f)), [&](const Tile&, const Fragment& fr, uint32_t base) {
+    for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
         for (uint32_t k = 0; k < fr.covered; ++k, ++kl) {
             Rgb& o = out[base + k];
             if (with_unshot) o += Rgb(maps.unshot[mb + kl]) * beam;
@@ -148,14 +148,15 @@ ParentMap map_parents(const FaceRaster& coarse, int Nc, int mc, int s,
 // A super-sampled mirror's unshot power in this direction is sent whole: the scale, per
 // channel, from what its fine rays reach through their parents to what L_U holds (light
 // that no fine ray can carry is lost).
-Rgb unshot_scale(const PassContext& pc, const PassDirection& pd, size_t f, const RadianceMaps& maps,
-                 const ParentMap& parent, uint64_t parents, NumericalLoss& lost) {
+Rgb unshot_scale(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
+                 const RadianceMaps& maps, const ParentMap& parent, uint64_t parents,
+                 NumericalLoss& lost) {
     const DirectionGeometry& g = pd.g;
     const uint64_t mb = maps.begin(pd.d, int(f));
     const double beam_c = ray_area(pc.Nc) * pc.dirs.solid_angle(pd.d);
     Rgb unshot(0.0), reach(0.0);
     for (uint64_t k = 0; k < parents; ++k) unshot += Rgb(maps.unshot[mb + k]) * beam_c;
-    for_fragments(g, g.frags_of(uint32_t(f)), [&](const Tile& tile, const Fragment& fr, uint32_t) {
+    for_fragments(g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t) {
         tile.edge_table(fr).for_each_ray([&](int u, int v, int) {
             const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
             if (pk >= 0) reach += Rgb(maps.unshot[mb + pk]) * pd.beam;
@@ -175,7 +176,7 @@ Rgb unshot_scale(const PassContext& pc, const PassDirection& pd, size_t f, const
 // parent ray (`with_unshot`, rescaled by unshot_scale); L_T of a parent is the mean
 // radiance of its fine rays on the face.
 void store_rays_supersampled(const PassContext& pc, const PassDirection& pd, size_t f,
-                             RadianceMaps& maps, bool with_unshot, Scratch& w,
+                             FragRange frags, RadianceMaps& maps, bool with_unshot, Scratch& w,
                              NumericalLoss& lost) {
     const DirectionGeometry& g = pd.g;
     const double beam = pd.beam;
@@ -183,21 +184,21 @@ void store_rays_supersampled(const PassContext& pc, const PassDirection& pd, siz
     rasterise_face(pc.scene.faces[f], pc.rotations[pd.d], pc.Nc, pc.mc, w.coarse);
     VLF_CHECK(maps.count(pd.d, int(f)) == w.coarse.covered);
     const ParentMap parent = map_parents(w.coarse, pc.Nc, pc.mc, pc.s, w.coarse_index);
-    const Rgb scale =
-        with_unshot ? unshot_scale(pc, pd, f, maps, parent, w.coarse.covered, lost) : Rgb(0.0);
+    const Rgb scale = with_unshot
+                          ? unshot_scale(pc, pd, f, frags, maps, parent, w.coarse.covered, lost)
+                          : Rgb(0.0);
     w.parent_sum.assign(w.coarse.covered, Rgb(0.0));
     w.parent_count.assign(w.coarse.covered, 0);
-    for_fragments(g, g.frags_of(uint32_t(f)),
-                  [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-                      tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
-                          const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
-                          Rgb& o = w.out[base + k];
-                          if (pk < 0) return;
-                          if (with_unshot) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
-                          w.parent_sum[pk] += o / beam;
-                          ++w.parent_count[pk];
-                      });
-                  });
+    for_fragments(g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
+        tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
+            const int32_t pk = parent(tile.s * pc.m + u, tile.t * pc.m + v);
+            Rgb& o = w.out[base + k];
+            if (pk < 0) return;
+            if (with_unshot) o += Rgb(maps.unshot[mb + pk]) * beam * scale;
+            w.parent_sum[pk] += o / beam;
+            ++w.parent_count[pk];
+        });
+    });
     for (uint64_t k = 0; k < w.coarse.covered; ++k)
         if (w.parent_count[k] > 0)
             maps.total[mb + k] += RgbF(w.parent_sum[k] / double(w.parent_count[k]));
@@ -229,21 +230,26 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
     }
     if (!pc.true_directions) return;
     // Stored faces only (the other faces keep no directional maps): the mirrors, then with
-    // --store-all-rays the rest, each in ascending order.
-    for (const RadianceMaps* stored : {&pc.spec, &pc.other})
+    // --store-all-rays the rest, each in ascending order, as the faces present here are:
+    // one walk finds each stored face's fragments.
+    for (const RadianceMaps* stored : {&pc.spec, &pc.other}) {
+        size_t k = 0;
         for (const int f : stored->faces) {
+            while (k < g.faces.size() && g.faces[k] < uint32_t(f)) ++k;
             const bool spec_store = stored == &pc.spec;
-            if (g.frags_of(uint32_t(f)).second == 0) {
+            if (k == g.faces.size() || g.faces[k] != uint32_t(f)) {
                 if (spec_store && pc.coverage(pd.d, f) > 0)
                     lose_sliver_light(pc, pd.d, f, res.lost);
                 continue;
             }
+            const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
             RadianceMaps& maps = spec_store ? pc.spec : pc.other;
             if (pc.s == 1)
-                store_rays(pc, pd, size_t(f), maps, spec_store, w.out);
+                store_rays(pc, pd, size_t(f), frags, maps, spec_store, w.out);
             else
-                store_rays_supersampled(pc, pd, size_t(f), maps, spec_store, w, res.lost);
+                store_rays_supersampled(pc, pd, size_t(f), frags, maps, spec_store, w, res.lost);
         }
+    }
 }
 
 // Which charts send diffuse power this pass, how much, and their unshot exitance: every

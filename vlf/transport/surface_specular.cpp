@@ -234,6 +234,7 @@ struct Ref {
     uint32_t chunk, target;
     int surface, sense;
 };
+constexpr uint32_t kRefsAhead = 8;  // how far ahead a gather fetches its targets' pixels
 
 // Whether the surface covers source pixel (i, j), known from a sending pixel p within one
 // pixel of it (its 5 x 5 neighbourhood holds (i, j)'s 3 x 3).
@@ -476,11 +477,14 @@ SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothS
 }
 
 // Runs direction d's gathers by `plan`; `power(target, e)` is the power of the target's
-// pixel e.
-template <class Power>
+// pixel e. `ahead(target)` may prefetch what `power` will read of a later target: the
+// powers come from every direction's rays, a cache miss each without it.
+template <class Power, class Ahead>
 Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGatherPlan& plan,
              const std::vector<SurfaceRays*>& group_rays, int d, double beam, Power&& power,
-             RadianceMaps& maps) {
+             Ahead&& ahead, RadianceMaps& maps) {
+    constexpr uint32_t kAhead = 16;  // targets (most have one pixel)
+    const uint32_t targets = uint32_t(plan.pixel_begin.size() - 1);
     Rgb rounding(0.0);
     std::vector<Rgb> acc;
     uint32_t t = 0;
@@ -490,6 +494,7 @@ Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGa
         const Rgb factor = power_factor(scene, surfaces.faces[size_t(group.surface)][0]);
         acc.assign(rays.rays.size(), Rgb(0.0));
         for (; t < group.end; ++t) {
+            if (t + kAhead < targets) ahead(t + kAhead);
             const uint32_t p0 = plan.pixel_begin[t];
             apply_target(
                 plan.pixels.data() + p0, plan.pixel_begin[t + 1] - p0,
@@ -544,8 +549,24 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         plan.clear();
         if (refs.empty()) return;
         const Mat3& rot = rotations[size_t(d)];
+        // The targets and their pixels lie anywhere in the chunks' arrays: each is fetched
+        // ahead of its turn, the target first and its first pixel once the target is in.
+        auto ahead = [&](size_t r) {
+            if (r + 2 * kRefsAhead < refs.size()) {
+                const Ref& x = refs[r + 2 * kRefsAhead];
+                __builtin_prefetch(&sources[x.chunk].targets[x.target]);
+            }
+            if (r + kRefsAhead < refs.size()) {
+                const Ref& x = refs[r + kRefsAhead];
+                const SurfaceSources& from = sources[x.chunk];
+                const SurfacePixel* p = from.pixels.data() + from.targets[x.target].begin;
+                __builtin_prefetch(p);
+                __builtin_prefetch(reinterpret_cast<const char*>(p + 1) - 1);
+            }
+        };
         std::vector<SurfaceRays*> group_rays;
         for (size_t r = 0; r < refs.size(); ++r) {
+            ahead(r);
             if (r == 0 || refs[r].surface != refs[r - 1].surface ||
                 refs[r].sense != refs[r - 1].sense) {
                 plan.groups.push_back({refs[r].surface, refs[r].sense, 0});
@@ -566,7 +587,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
                 const SurfaceSources& from = sources[refs[t].chunk];
                 return from.pixels[from.targets[refs[t].target].begin + e].power;
             },
-            maps);
+            [&](uint32_t t) { ahead(t - std::min(t, kRefsAhead)); }, maps);
         if (keep) {
             plan.pixels.shrink_to_fit();
             plan.entries.shrink_to_fit();
@@ -595,6 +616,11 @@ std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet&
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
             [&](uint32_t t, uint32_t e) {
                 return arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];
+            },
+            [&](uint32_t t) {
+                const uint32_t p = plan.pixel_begin[t];
+                if (p < plan.pixels.size())
+                    __builtin_prefetch(&arrivals.power[plan.pixels[p].arrival]);
             },
             maps);
     });

@@ -45,14 +45,6 @@ struct DirectionGeometry {
     std::vector<TexelOverlap> ov;
     std::vector<int32_t> partner;  // per slot: partner slot, kEscaped, kBlocked or kSealed
     uint32_t slots() const { return tile_base.back(); }
-    // The range of face f's fragments in frags (empty when it has no rays here); a loop
-    // over `faces` has it as {face_begin[k], face_begin[k + 1]} without the search.
-    std::pair<uint32_t, uint32_t> frags_of(uint32_t f) const {
-        const auto it = std::lower_bound(faces.begin(), faces.end(), f);
-        if (it == faces.end() || *it != f) return {0, 0};
-        const size_t k = size_t(it - faces.begin());
-        return {face_begin[k], face_begin[k + 1]};
-    }
     // Bytes of an exact-size copy (what the cache holds).
     int64_t bytes() const;
 };
