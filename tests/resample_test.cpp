@@ -190,5 +190,35 @@ TEST(Resample, MirrorsSeenInMirrorsAndMixedMaterials) {
     EXPECT_GT(via_mirror, 10);
 }
 
+TEST(Resample, GlassFacesSeenFromOutsideAreTracedInnerFacesKeepTheField) {
+    // tests/scenes/glass-room.json: a smooth glass ball and an absorbing glass box. An outer
+    // face's traced radiance differs from the field's; an inner face's front looks into the
+    // glass (an eye there is the only one that sees it) and keeps the field's L_T.
+    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
+    const PropagateParams p = test::params(33, 32, 8, 3, true);
+    Propagation run = propagate(s, p, RunOptions{});
+    Transport& t = *run.transport;
+    const std::vector<RgbF> field = t.specular_maps().total;
+    resample_specular(t, RayCaster(s), 0);
+    const RadianceMaps& maps = t.specular_maps();
+    uint64_t inner = 0, outer = 0, outer_changed = 0;
+    for (int d = 0; d < t.directions().size(); ++d)
+        for (int f : maps.faces) {
+            if (!s.material_of(s.faces[f]).dielectric) continue;
+            for (uint64_t k = maps.begin(d, f); k < maps.begin(d, f) + maps.count(d, f); ++k) {
+                if (s.faces[f].inner) {
+                    ASSERT_EQ(maps.total[k], field[k]) << "inner face " << f << " dir " << d;
+                    ++inner;
+                } else {
+                    ++outer;
+                    outer_changed += maps.total[k] != field[k];
+                }
+            }
+        }
+    EXPECT_GT(inner, 1000u);
+    EXPECT_GT(outer, 1000u);
+    EXPECT_GT(double(outer_changed), 0.9 * double(outer));
+}
+
 }  // namespace
 }  // namespace vlf

@@ -123,8 +123,10 @@ void resample_specular(Transport& transport, const RayCaster& caster, int /*thre
         FaceRaster fr;
         for (int fid : maps.faces) {
             const uint64_t n = maps.count(d, fid);
-            if (n == 0) continue;
             const Face& face = scene.faces[fid];
+            // An inner face's front looks into its glass: only an eye inside the glass
+            // sees it (render.cpp), and it keeps the field's L_T.
+            if (n == 0 || face.inner) continue;
             rasterise_face(face, rot, N, m, fr);
             VLF_CHECK(fr.covered == n);
             // The face sends along +omega_d when its front faces +z of the PSF.
