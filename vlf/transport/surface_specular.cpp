@@ -477,8 +477,9 @@ SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothS
 }
 
 // Runs direction d's gathers by `plan`; `power(target, e)` is the power of the target's
-// pixel e. `ahead(target)` may prefetch what `power` will read of a later target: the
-// powers come from every direction's rays, a cache miss each without it.
+// pixel e, `ahead(target)` where it lies (or null), fetched a few targets early: the
+// powers come from every direction's rays, a cache miss each without it. (The prefetch is
+// made here: in a function of its own the compiler finds no effect and drops the call.)
 template <class Power, class Ahead>
 Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGatherPlan& plan,
              const std::vector<SurfaceRays*>& group_rays, int d, double beam, Power&& power,
@@ -494,7 +495,7 @@ Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGa
         const Rgb factor = power_factor(scene, surfaces.faces[size_t(group.surface)][0]);
         acc.assign(rays.rays.size(), Rgb(0.0));
         for (; t < group.end; ++t) {
-            if (t + kAhead < targets) ahead(t + kAhead);
+            if (t + kAhead < targets) __builtin_prefetch(ahead(t + kAhead));
             const uint32_t p0 = plan.pixel_begin[t];
             apply_target(
                 plan.pixels.data() + p0, plan.pixel_begin[t + 1] - p0,
@@ -551,22 +552,18 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         const Mat3& rot = rotations[size_t(d)];
         // The targets and their pixels lie anywhere in the chunks' arrays: each is fetched
         // ahead of its turn, the target first and its first pixel once the target is in.
-        auto ahead = [&](size_t r) {
-            if (r + 2 * kRefsAhead < refs.size()) {
-                const Ref& x = refs[r + 2 * kRefsAhead];
-                __builtin_prefetch(&sources[x.chunk].targets[x.target]);
-            }
-            if (r + kRefsAhead < refs.size()) {
-                const Ref& x = refs[r + kRefsAhead];
-                const SurfaceSources& from = sources[x.chunk];
-                const SurfacePixel* p = from.pixels.data() + from.targets[x.target].begin;
-                __builtin_prefetch(p);
-                __builtin_prefetch(reinterpret_cast<const char*>(p + 1) - 1);
-            }
+        auto target_of = [&](size_t r) { return &sources[refs[r].chunk].targets[refs[r].target]; };
+        auto pixels_of = [&](size_t r) {
+            return sources[refs[r].chunk].pixels.data() + target_of(r)->begin;
         };
         std::vector<SurfaceRays*> group_rays;
         for (size_t r = 0; r < refs.size(); ++r) {
-            ahead(r);
+            if (r + 2 * kRefsAhead < refs.size()) __builtin_prefetch(target_of(r + 2 * kRefsAhead));
+            if (r + kRefsAhead < refs.size()) {
+                const SurfacePixel* p = pixels_of(r + kRefsAhead);
+                __builtin_prefetch(p);
+                __builtin_prefetch(reinterpret_cast<const char*>(p + 1) - 1);
+            }
             if (r == 0 || refs[r].surface != refs[r - 1].surface ||
                 refs[r].sense != refs[r - 1].sense) {
                 plan.groups.push_back({refs[r].surface, refs[r].sense, 0});
@@ -587,7 +584,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
                 const SurfaceSources& from = sources[refs[t].chunk];
                 return from.pixels[from.targets[refs[t].target].begin + e].power;
             },
-            [&](uint32_t t) { ahead(t - std::min(t, kRefsAhead)); }, maps);
+            [&](uint32_t t) -> const void* { return pixels_of(t); }, maps);
         if (keep) {
             plan.pixels.shrink_to_fit();
             plan.entries.shrink_to_fit();
@@ -617,10 +614,9 @@ std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet&
             [&](uint32_t t, uint32_t e) {
                 return arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];
             },
-            [&](uint32_t t) {
+            [&](uint32_t t) -> const void* {
                 const uint32_t p = plan.pixel_begin[t];
-                if (p < plan.pixels.size())
-                    __builtin_prefetch(&arrivals.power[plan.pixels[p].arrival]);
+                return p < plan.pixels.size() ? &arrivals.power[plan.pixels[p].arrival] : nullptr;
             },
             maps);
     });

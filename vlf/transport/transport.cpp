@@ -446,17 +446,21 @@ void Transport::swap_maps(Rgb& unshot, Rgb& deferred) {
         }
     }
     std::swap(m_spec.unshot, m_spec.unshot_next);
-    // The mirrors' rays, each rank its own directions, in direction order across the
-    // ranks (DESIGN §5 Parallelism).
+    // The mirrors' rays, each rank its own directions: per direction (its stored faces'
+    // rays are contiguous), then in direction order across the ranks (DESIGN §5
+    // Parallelism), so the sum is the same on any thread and rank count.
     const double area = ray_area(m_params.field.resolution);
+    std::vector<Rgb> per_direction(size_t(m_spec.last - m_spec.first), Rgb(0.0));
+    if (!m_spec.faces.empty())
+        parallel_for(m_spec.first, m_spec.last, [&](long d) {
+            const uint64_t b = m_spec.ray_begin(int(d)) - m_spec.base,
+                           e = m_spec.ray_begin(int(d) + 1) - m_spec.base;
+            Rgb s(0.0);
+            for (uint64_t k = b; k < e; ++k) s += Rgb(m_spec.unshot[k]);
+            per_direction[size_t(d - m_spec.first)] = s * (area * m_dirs.solid_angle(int(d)));
+        });
     sum_in_rank_order(unshot, [&](Rgb& sum) {
-        for (int d = m_spec.first; d < m_spec.last; ++d) {
-            const double beam = area * m_dirs.solid_angle(d);
-            for (int f : m_spec.faces) {
-                const uint64_t b = m_spec.begin(d, f), n = m_spec.count(d, f);
-                for (uint64_t k = b; k < b + n; ++k) sum += Rgb(m_spec.unshot[k]) * beam;
-            }
-        }
+        for (const Rgb& s : per_direction) sum += s;
     });
 }
 
