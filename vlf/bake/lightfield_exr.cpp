@@ -16,6 +16,8 @@
 #include <OpenEXR/ImfTileDescription.h>
 #include <OpenEXR/ImfVecAttribute.h>
 #include <fmt/format.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <memory>
@@ -98,19 +100,38 @@ uint64_t write_lightfield_exr(const std::string& file, const FieldParams& field,
         out = std::make_unique<Imf::MultiPartOutputFile>(file.c_str(), headers.data(), l);
     }
     const size_t px = size_t(N) * N;
-    DirectionRays rays;
     DeepPointers ptr(px);
     uint64_t samples = 0;
-    for (int d = 0; d < l; ++d) {
-        source(d, rays);
-        VLF_CHECK(rays.counts.size() == px && rays.face.size() == rays.radiance.size());
-        const uint64_t at = ptr.point(rays.counts, rays.face.data(), rays.radiance.data());
-        VLF_CHECK(at == rays.face.size());
-        samples += at;
-        Imf::DeepTiledOutputPart part(*out, d);
-        part.setFrameBuffer(ptr.frame_buffer(rays.counts, N));
-        part.writeTiles(0, part.numXTiles() - 1, 0, part.numYTiles() - 1);
-    }
+    // A pipeline: the source makes the next directions' rays on the other threads while
+    // one direction at a time is compressed and written, in direction order.
+    int next = 0;
+    const size_t in_flight = 2 * size_t(tbb::this_task_arena::max_concurrency());
+    using Job = std::shared_ptr<std::pair<int, DirectionRays>>;  // (tokens are copied)
+    tbb::parallel_pipeline(
+        in_flight,
+        tbb::make_filter<void,
+                         Job>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) -> Job {
+            if (next == l) {
+                fc.stop();
+                return nullptr;
+            }
+            auto job = std::make_shared<std::pair<int, DirectionRays>>();
+            job->first = next++;
+            return job;
+        }) & tbb::make_filter<Job, Job>(tbb::filter_mode::parallel, [&](Job job) {
+            source(job->first, job->second);
+            return job;
+        }) & tbb::make_filter<Job, void>(tbb::filter_mode::serial_in_order, [&](Job job) {
+            const int d = job->first;
+            DirectionRays& rays = job->second;
+            VLF_CHECK(rays.counts.size() == px && rays.face.size() == rays.radiance.size());
+            const uint64_t at = ptr.point(rays.counts, rays.face.data(), rays.radiance.data());
+            VLF_CHECK(at == rays.face.size());
+            samples += at;
+            Imf::DeepTiledOutputPart part(*out, d);
+            part.setFrameBuffer(ptr.frame_buffer(rays.counts, N));
+            part.writeTiles(0, part.numXTiles() - 1, 0, part.numYTiles() - 1);
+        }));
     return samples;
 }
 

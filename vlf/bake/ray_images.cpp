@@ -2,6 +2,8 @@
 // direction at a time (ray_images.hpp).
 #include "vlf/bake/ray_images.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <memory>
 
 #include "vlf/core/error.hpp"
@@ -83,17 +85,18 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
 RaySource ray_source(const Scene& scene, const PropagateParams& params,
                      const Transport& transport) {
     // A counting sort of the faces' samples by pixel (stable: each pixel keeps ascending
-    // face order) gives the layered depth image.
+    // face order) gives the layered depth image. Each thread has its own scratch: the bake
+    // writer asks for several directions at once.
     struct State {
         FaceRaster raster;
         std::vector<Sample> samples;
         std::vector<uint32_t> cursor;
     };
-    auto state = std::make_shared<State>();
+    auto state = std::make_shared<tbb::enumerable_thread_specific<State>>();
     return [&scene, &params, &transport, state](int d, DirectionRays& out) {
         const int N = params.field.resolution;
         const size_t px = size_t(N) * N;
-        State& st = *state;
+        State& st = state->local();
         face_samples(scene, params, transport, d, st.raster, st.samples);
         out.counts.assign(px, 0);
         for (const Sample& s : st.samples) ++out.counts[s.pixel];

@@ -40,7 +40,8 @@ struct DirectionRays {
     std::vector<int32_t> face;
     std::vector<RgbF> radiance;
 };
-// Fills `out` with the stored rays of direction d (0 <= d < directions).
+// Fills `out` with the stored rays of direction d (0 <= d < directions). A source may be
+// called from several threads at once, for different directions and outputs.
 using RaySource = std::function<void(int d, DirectionRays& out)>;
 RaySource ray_source(const RayImages& rays);
 // Straight from a finished propagation's radiance maps: the bake's rays without holding
