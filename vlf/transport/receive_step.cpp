@@ -163,11 +163,11 @@ void collect_surface_power(const PassContext& pc, const PassDirection& pd, size_
     Rgb* at = arrivals.power.data() + arrivals.first[slot];
     const uint64_t room = arrivals.first[slot + 1] - arrivals.first[slot];
     uint32_t& n = count[size_t(s) * 2 + size_t(side)];
-    for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
-        tile.edge_table(fr).for_each_ray([&](int, int, int k) {
-            VLF_CHECK(n < room);  // the plan was made from these very rays
-            at[n++] = in[base + uint32_t(k)];
-        });
+    // A fragment's slots hold its rays in edge-table order, the order of the plan's rays.
+    for_fragments(pd.g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
+        VLF_CHECK(n + fr.covered <= room);  // the plan was made from these very rays
+        std::copy_n(in.begin() + base, fr.covered, at + n);
+        n += fr.covered;
     });
 }
 
@@ -281,17 +281,17 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         const uint32_t f = g.faces[k];
         const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
         const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
-        const Received r = gather_received(pc, g, frags, w.in);
         if (surfaces.of_face[f] >= 0) {
             // A smooth surface's rays, lit or not (the source's window is the whole surface).
             if (pc.hand_caustics) {
                 // Cycle 1: the lamps' direct light, carried on by the lamp caustics' shot.
-                res.handed += r.power;
+                res.handed += gather_received(pc, g, frags, w.in).power;
                 for_fragments(g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
                     std::fill_n(w.in.begin() + base, fr.covered, Rgb(0.0));
                 });
             } else if (!mat.dielectric) {
-                res.absorbed += r.power * (Rgb(1.0) - mat.specular);
+                res.absorbed +=
+                    gather_received(pc, g, frags, w.in).power * (Rgb(1.0) - mat.specular);
             }
             if (arriving)
                 collect_surface_power(pc, pd, f, frags, w.in, w.arrived, *arrivals);
@@ -299,6 +299,7 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
                 collect_surface_rays(pc, pd, f, frags, w.in, w.surface_rays);
             continue;
         }
+        const Received r = gather_received(pc, g, frags, w.in);
         if (r.power.x <= 0 && r.power.y <= 0 && r.power.z <= 0) continue;
         if (pc.hand_caustics && pc.caustic_faces[f]) {
             res.handed += r.power;  // a faceted lens: cycle 1's lamp light goes to the shot

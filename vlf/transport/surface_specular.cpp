@@ -477,7 +477,7 @@ SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothS
 }
 
 // Runs direction d's gathers by `plan`; `power(target, e)` is the power of the target's
-// pixel e, `ahead(target)` where it lies (or null), fetched a few targets early: the
+// pixel e, `ahead(target, e)` where it lies, fetched a few targets early: the
 // powers come from every direction's rays, a cache miss each without it. (The prefetch is
 // made here: in a function of its own the compiler finds no effect and drops the call.)
 template <class Power, class Ahead>
@@ -495,7 +495,9 @@ Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGa
         const Rgb factor = power_factor(scene, surfaces.faces[size_t(group.surface)][0]);
         acc.assign(rays.rays.size(), Rgb(0.0));
         for (; t < group.end; ++t) {
-            if (t + kAhead < targets) __builtin_prefetch(ahead(t + kAhead));
+            if (const uint32_t ta = t + kAhead; ta < targets)
+                for (uint32_t e = plan.pixel_begin[ta]; e < plan.pixel_begin[ta + 1]; ++e)
+                    __builtin_prefetch(ahead(ta, e - plan.pixel_begin[ta]));
             const uint32_t p0 = plan.pixel_begin[t];
             apply_target(
                 plan.pixels.data() + p0, plan.pixel_begin[t + 1] - p0,
@@ -584,7 +586,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
                 const SurfaceSources& from = sources[refs[t].chunk];
                 return from.pixels[from.targets[refs[t].target].begin + e].power;
             },
-            [&](uint32_t t) -> const void* { return pixels_of(t); }, maps);
+            [&](uint32_t t, uint32_t e) -> const void* { return pixels_of(t) + e; }, maps);
         if (keep) {
             plan.pixels.shrink_to_fit();
             plan.entries.shrink_to_fit();
@@ -614,9 +616,8 @@ std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet&
             [&](uint32_t t, uint32_t e) {
                 return arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];
             },
-            [&](uint32_t t) -> const void* {
-                const uint32_t p = plan.pixel_begin[t];
-                return p < plan.pixels.size() ? &arrivals.power[plan.pixels[p].arrival] : nullptr;
+            [&](uint32_t t, uint32_t e) -> const void* {
+                return &arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];
             },
             maps);
     });
