@@ -511,34 +511,6 @@ Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGa
     return rounding;
 }
 
-// Directions [first, last) in the order the gathers take them: along a Z-order curve over
-// the octahedral map of the hemisphere, so that directions taken one after the other are
-// neighbours. A surface ray's light goes to the three directions around its turned one,
-// neighbours too: their gathers then read its power while it is still in cache. (The order
-// changes no result: each direction deposits into its own maps.)
-std::vector<int> gather_order(const DirectionSet& dirs, int first, int last) {
-    auto spread = [](uint32_t x) {  // the bits of x at the even places
-        uint64_t v = x;
-        v = (v | (v << 16)) & 0x0000ffff0000ffffull;
-        v = (v | (v << 8)) & 0x00ff00ff00ff00ffull;
-        v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0full;
-        v = (v | (v << 2)) & 0x3333333333333333ull;
-        v = (v | (v << 1)) & 0x5555555555555555ull;
-        return v;
-    };
-    std::vector<std::pair<uint64_t, int>> keyed;
-    for (int d = first; d < last; ++d) {
-        const Vec3 w = dirs.direction(d);
-        const double s = std::abs(w.x) + std::abs(w.y) + std::abs(w.z);
-        const auto cell = [&](double c) { return uint32_t(std::lround((c / s + 1.0) * 32767.5)); };
-        keyed.push_back({spread(cell(w.x)) | (spread(cell(w.y)) << 1), d});
-    }
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<int> order;
-    for (const auto& [key, d] : keyed) order.push_back(d);
-    return order;
-}
-
 }  // namespace
 
 void SurfaceGatherPlan::clear() {
@@ -575,13 +547,11 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     const double a = ray_area(N);
     const bool keep = arrivals != nullptr;
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
-    const std::vector<int> order = gather_order(dirs, maps.first, maps.last);
     // Each thread builds its plans in a scratch plan that keeps its memory from direction to
     // direction; a kept plan is copied out at its exact size (growing each one in place
     // would copy it and fault in fresh pages at every doubling).
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
-    parallel_for(0, long(order.size()), [&](long k) {
-        const long d = order[size_t(k)];
+    parallel_for(maps.first, maps.last, [&](long d) {
         const auto& refs = by_direction[size_t(d)];
         if (keep) cache.gathers[size_t(d)].clear();
         SurfaceGatherPlan& plan = scratch.local();
@@ -643,9 +613,7 @@ std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet&
     VLF_CHECK(arrivals.ready);
     const double a = ray_area(N);
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
-    const std::vector<int> order = gather_order(dirs, maps.first, maps.last);
-    parallel_for(0, long(order.size()), [&](long k) {
-        const long d = order[size_t(k)];
+    parallel_for(maps.first, maps.last, [&](long d) {
         const SurfaceGatherPlan& plan = cache.gathers[size_t(d)];
         if (plan.groups.empty()) return;
         std::vector<SurfaceRays*> group_rays;
