@@ -145,6 +145,7 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     }
     run_opts.checkpoint_dir = o.checkpoint;
     run_opts.ranks = &ranks;
+    run_opts.resample_later = true;  // in the bake writer, below
     if (lead && ranks.size() > 1)
         std::printf("ranks      %d (MPI; each a block of the directions)\n", ranks.size());
     run_opts.progress = !o.quiet && vlf::Progress::stderr_is_terminal();
@@ -166,7 +167,11 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     const vlf::GatherStats gathered = vlf::final_gather(bake);
     const double gather_s = gather_time.seconds();
     bake.manifest["timings_s"]["gather"] = gather_s;
-    vlf::write_bake(o.output, bake, vlf::ray_source(scene, p, *run.transport));
+    // The specular maps are resampled a direction at a time as the writer makes that
+    // direction's rays (resample.hpp), while it compresses the directions before.
+    vlf::write_bake(o.output, bake,
+                    run.resample_pending ? vlf::resampling_ray_source(scene, p, *run.transport)
+                                         : vlf::ray_source(scene, p, *run.transport));
     const double write_s = write_time.seconds() - gather_s;
     vlf::set_write_time(report["timings_s"], run, write_s + gather_s);
     report["timings_s"]["write"] = write_s;

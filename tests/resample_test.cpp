@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "test_util.hpp"
+#include "vlf/bake/ray_images.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/field/lightmap.hpp"
 #include "vlf/field/psf.hpp"
@@ -218,6 +219,36 @@ TEST(Resample, GlassFacesSeenFromOutsideAreTracedInnerFacesKeepTheField) {
     EXPECT_GT(inner, 1000u);
     EXPECT_GT(outer, 1000u);
     EXPECT_GT(double(outer_changed), 0.9 * double(outer));
+}
+
+TEST(Resample, InTheBakeWriterAsInPropagateSameRays) {
+    // propagate resamples in the bake writer, a direction at a time as it makes the
+    // direction's rays (RunOptions::resample_later, resampling_ray_source): the rays must be
+    // the bits of resampling all directions first. Glass (outer and inner faces) and a
+    // mirror-free box in tests/scenes/glass-room.json.
+    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
+    PropagateParams p = test::params(33, 32, 8, 3, true);
+    p.resample = true;
+    const int l = p.field.directions, N = p.field.resolution, m = p.field.tile;
+    Propagation first = propagate(s, p, RunOptions{});
+    EXPECT_FALSE(first.resample_pending);
+    const RayImages want = gather_rays(ray_source(s, p, *first.transport), l, N, m);
+    RunOptions later;
+    later.resample_later = true;
+    Propagation deferred = propagate(s, p, later);
+    ASSERT_TRUE(deferred.resample_pending);
+    // Not yet resampled: the field's own L_T differs from the traced one.
+    const RayImages field = gather_rays(ray_source(s, p, *deferred.transport), l, N, m);
+    ASSERT_EQ(field.face, want.face);
+    EXPECT_NE(field.radiance, want.radiance);
+    const RayImages got = gather_rays(resampling_ray_source(s, p, *deferred.transport), l, N, m);
+    EXPECT_EQ(got.pixel_offset, want.pixel_offset);
+    EXPECT_EQ(got.face, want.face);
+    ASSERT_EQ(got.radiance.size(), want.radiance.size());
+    for (size_t k = 0; k < got.radiance.size(); ++k)
+        ASSERT_EQ(got.radiance[k], want.radiance[k]) << k;
+    // And the transport's maps are resampled too, as propagate leaves them.
+    EXPECT_EQ(deferred.transport->specular_maps().total, first.transport->specular_maps().total);
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 
 #include "vlf/core/error.hpp"
 #include "vlf/field/psf.hpp"
+#include "vlf/scene/raycaster.hpp"
+#include "vlf/transport/resample.hpp"
 #include "vlf/transport/transport.hpp"
 
 namespace vlf {
@@ -113,6 +115,20 @@ RaySource ray_source(const Scene& scene, const PropagateParams& params,
             out.face[k] = s.face;
             out.radiance[k] = s.radiance;
         }
+    };
+}
+
+RaySource resampling_ray_source(const Scene& scene, const PropagateParams& params,
+                                Transport& transport) {
+    struct Tracing {
+        RayCaster caster;
+        SpecularResampler resampler;
+        Tracing(const Scene& s, Transport& t) : caster(s), resampler(t, caster) {}
+    };
+    auto tracing = std::make_shared<Tracing>(scene, transport);
+    return [tracing, rays = ray_source(scene, params, transport)](int d, DirectionRays& out) {
+        tracing->resampler.direction(d);
+        rays(d, out);
     };
 }
 

@@ -47,6 +47,11 @@ RaySource ray_source(const RayImages& rays);
 // Straight from a finished propagation's radiance maps: the bake's rays without holding
 // all of them in memory (what propagate writes with).
 RaySource ray_source(const Scene& scene, const PropagateParams& params, const Transport& transport);
+// The same, each direction's specular maps resampled just before its rays are made
+// (SpecularResampler, VLF §5): for a propagation run with RunOptions::resample_later, so the
+// tracing overlaps the bake writer's serial compression. The bake is the same bits.
+RaySource resampling_ray_source(const Scene& scene, const PropagateParams& params,
+                                Transport& transport);
 
 // Every direction of `source`, gathered into RayImages.
 RayImages gather_rays(const RaySource& source, int directions, int resolution, int tile);

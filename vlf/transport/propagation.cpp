@@ -93,8 +93,11 @@ Propagation propagate(const Scene& scene, const PropagateParams& params, const R
     run.transport->fold_unshot_into_total();     // each rank its own directions
     run.transport->gather_radiance_maps(false);  // L_T whole on rank 0, for the bake
     // VLF §5: after the last cycle, resample the specular total maps along real
-    // reflection paths (backward ray tracing), once (by the rank that writes the bake).
-    if (lead && params.resample && scene.specular_face_count() > 0) {
+    // reflection paths (backward ray tracing), once (by the rank that writes the bake),
+    // here or by the caller as it writes the bake.
+    run.resample_pending = lead && params.resample && scene.specular_face_count() > 0;
+    if (run.resample_pending && !opts.resample_later) {
+        run.resample_pending = false;
         const Stopwatch resample;
         const RayCaster caster(scene);
         resample_specular(*run.transport, caster);

@@ -26,12 +26,17 @@ struct RunOptions {
     const CheckpointInfo* resume = nullptr;
     // Not null: the ranks sharing the run (ranks.hpp); rank 0 writes the checkpoints.
     Ranks* ranks = nullptr;
+    // Set: the resampling after the last cycle (VLF §5) is left to the caller, which
+    // resamples a direction at a time as it writes the bake (SpecularResampler);
+    // Propagation::resample_pending says whether it is due.
+    bool resample_later = false;
 };
 
 struct Propagation {
     std::unique_ptr<Transport> transport;
     double seconds_total = 0.0;
     double seconds_resample = 0.0;    // backward ray-traced resampling (VLF §5)
+    bool resample_pending = false;    // RunOptions::resample_later: the caller resamples
     double seconds_checkpoint = 0.0;  // writing checkpoints (and reading the resumed one)
     int resumed_after = 0;            // cycles restored from a checkpoint (0: none)
     nlohmann::json ranks;             // with several ranks: each one's share, time, memory

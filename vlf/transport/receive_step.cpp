@@ -327,28 +327,42 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
         }
         return;
     }
-    if (res.sources.surfaces.empty()) res.sources.surfaces.emplace_back();
-    SurfaceSources& out = res.sources.surfaces.back();
+    // Each direction's sources in arrays of their own, sized before they are filled: one
+    // array per chunk grown as it goes would copy its pixels at every doubling and touch
+    // twice their memory.
+    SurfaceSources& out = res.sources.surfaces.emplace_back();
     out.frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
+    const bool keep = pc.surface_plans != nullptr;
+    auto incoming = [&](int side) { return pd.g.psf.omega * (side == 0 ? -1.0 : 1.0); };
+    if (keep) {  // the plans first, kept in their slots, then the arrays at their size
+        size_t targets = 0, pixels = 0;
+        for (int s = 0; s < surfaces.size(); ++s)
+            for (int side = 0; side < 2; ++side) {
+                const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
+                SurfacePlan& plan = (*pc.surface_plans)[surfaces.pass_slot(pd.d, s, side)];
+                if (!plan.built || plan.stripped || plan.rays != rays.size())
+                    make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming(side), rays, plan);
+                targets += plan.targets.size(), pixels += plan.pixels.size();
+            }
+        out.targets.reserve(targets);
+        out.pixels.reserve(pixels);
+    }
     for (int s = 0; s < surfaces.size(); ++s)
         for (int side = 0; side < 2; ++side) {
             const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
             const size_t slot = surfaces.pass_slot(pd.d, s, side);
-            const bool keep = pc.surface_plans != nullptr;
             SurfacePlan& plan = keep ? (*pc.surface_plans)[slot] : w.surface_plan;
             if (!keep) {
                 bool lit = false;
                 for (const SurfaceRay& r : rays)
                     lit |= r.power.x > 0 || r.power.y > 0 || r.power.z > 0;
                 if (!lit) continue;  // (a kept plan's targets are sent lit or not)
-            }
-            if (!keep || !plan.built || plan.stripped || plan.rays != rays.size()) {
-                const Vec3 incoming = pd.g.psf.omega * (side == 0 ? -1.0 : 1.0);
-                make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming, rays, plan);
+                make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming(side), rays, plan);
             }
             apply_surface_plan(plan, keep ? uint32_t(slot) : ~0u, rays, res.lost.grazing_mirror,
                                out);
         }
+    if (out.empty()) res.sources.surfaces.pop_back();
 }
 
 }  // namespace vlf::transport_detail

@@ -106,43 +106,49 @@ Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
     return tracer.leaving(face, point, travel, 1.0, 0);
 }
 
-void resample_specular(Transport& transport, const RayCaster& caster, int /*threads_unused*/) {
-    const Scene& scene = transport.scene();
-    VLF_CHECK(caster.scene().faces.size() == scene.faces.size());
-    const int N = transport.params().field.resolution, m = transport.params().field.tile;
-    const std::vector<Rgb> radiance = texel_radiance(scene, transport.texture_maps());
-    const std::vector<size_t>& offset = transport.texture_maps().offset;
-    const DirectionSet& dirs = transport.directions();
-    const std::vector<Mat3>& rotations = transport.rotations();
-    RadianceMaps& maps = transport.specular_maps();
-    if (maps.faces.empty()) return;
+SpecularResampler::SpecularResampler(Transport& transport, const RayCaster& caster)
+    : m_transport(transport),
+      m_caster(caster),
+      m_radiance(texel_radiance(transport.scene(), transport.texture_maps())) {
+    VLF_CHECK(caster.scene().faces.size() == transport.scene().faces.size());
+}
 
-    parallel_for(0, dirs.size(), [&](long dl) {
-        const int d = static_cast<int>(dl);
-        const Mat3& rot = rotations[d];
-        FaceRaster fr;
-        for (int fid : maps.faces) {
-            const uint64_t n = maps.count(d, fid);
-            const Face& face = scene.faces[fid];
-            // An inner face's front looks into its glass: only an eye inside the glass
-            // sees it (render.cpp), and it keeps the field's L_T.
-            if (n == 0 || face.inner) continue;
-            rasterise_face(face, rot, N, m, fr);
-            VLF_CHECK(fr.covered == n);
-            // The face sends along +omega_d when its front faces +z of the PSF.
-            const Vec3 travel = double(fr.facing) * dirs.direction(d);
-            const PlaneInPsf plane(face, rot, N);
-            const uint64_t base = maps.begin(d, fid);
-            uint64_t k = 0;  // face-local ray order: fragments in tile order, edge-table order
-            for (const FaceFragment& ff : fr.fragments)
-                fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                    const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
-                    const Rgb L =
-                        specular_path_radiance(scene, caster, radiance, offset, fid, point, travel);
-                    maps.total[base + k++] = RgbF(L);
-                });
-        }
-    });
+void SpecularResampler::direction(int d) const {
+    const Scene& scene = m_transport.scene();
+    const int N = m_transport.params().field.resolution, m = m_transport.params().field.tile;
+    const std::vector<size_t>& offset = m_transport.texture_maps().offset;
+    const DirectionSet& dirs = m_transport.directions();
+    const Mat3& rot = m_transport.rotations()[size_t(d)];
+    RadianceMaps& maps = m_transport.specular_maps();
+    thread_local FaceRaster fr;
+    for (int fid : maps.faces) {
+        const uint64_t n = maps.count(d, fid);
+        const Face& face = scene.faces[fid];
+        // An inner face's front looks into its glass: only an eye inside the glass sees it
+        // (render.cpp), and it keeps the field's L_T.
+        if (n == 0 || face.inner) continue;
+        rasterise_face(face, rot, N, m, fr);
+        VLF_CHECK(fr.covered == n);
+        // The face sends along +omega_d when its front faces +z of the PSF.
+        const Vec3 travel = double(fr.facing) * dirs.direction(d);
+        const PlaneInPsf plane(face, rot, N);
+        const uint64_t base = maps.begin(d, fid);
+        uint64_t k = 0;  // face-local ray order: fragments in tile order, edge-table order
+        for (const FaceFragment& ff : fr.fragments)
+            fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
+                const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
+                const Rgb L =
+                    specular_path_radiance(scene, m_caster, m_radiance, offset, fid, point, travel);
+                maps.total[base + k++] = RgbF(L);
+            });
+    }
+}
+
+void resample_specular(Transport& transport, const RayCaster& caster, int /*threads_unused*/) {
+    if (transport.specular_maps().faces.empty()) return;
+    const SpecularResampler resampler(transport, caster);
+    parallel_for(0, transport.directions().size(),
+                 [&](long d) { resampler.direction(static_cast<int>(d)); });
 }
 
 }  // namespace vlf

@@ -45,4 +45,21 @@ Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
 // is unused: vlf::ThreadLimit governs the threads).
 void resample_specular(Transport& transport, const RayCaster& caster, int threads_unused = 0);
 
+// The same resampling a direction at a time, for a caller that consumes the maps direction
+// by direction: the bake writer resamples each direction as it makes its rays
+// (propagate/main.cpp), so the tracing overlaps the writer's serial compression. The maps
+// come out bit-identical to resample_specular's.
+class SpecularResampler {
+  public:
+    // Keeps references to both; reads the transport's texture maps (P^T) once.
+    SpecularResampler(Transport& transport, const RayCaster& caster);
+    // Resamples direction d's specular L_T. Thread-safe for distinct directions.
+    void direction(int d) const;
+
+  private:
+    Transport& m_transport;
+    const RayCaster& m_caster;
+    std::vector<Rgb> m_radiance;  // texel_radiance of the texture maps
+};
+
 }  // namespace vlf

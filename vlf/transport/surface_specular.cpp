@@ -232,9 +232,15 @@ int64_t SurfaceRayCache::plan_bytes() const {
 
 namespace {
 
+// A target of the first gather, with what its plan needs, so the gather reads the targets
+// in order and fetches only their pixels out of order.
 struct Ref {
-    uint32_t chunk, target;
-    int surface, sense;
+    const SurfacePixel* pixels;
+    const SurfaceFrame* frame;
+    uint32_t n;      // pixels
+    uint32_t group;  // surface * 2 + (sense > 0): the target's rays
+    int surface() const { return int(group >> 1); }
+    int sense() const { return (group & 1u) ? 1 : -1; }
 };
 constexpr uint32_t kRefsAhead = 8;  // how far ahead a gather fetches its targets' pixels
 
@@ -314,10 +320,8 @@ size_t nearest_ray(const SurfaceRays& rays, const Mat3& rot, int N, const Vec3& 
 // The backward mapping of target t (VLF §4.3): the rays of `rays` whose centres lie in the
 // sending pixels' footprints, each with the sending pixels whose values it takes. Appends to
 // `out`.
-void plan_gather(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget& t,
-                 const SurfacePixel* px, const Mat3& rot, int N, const SurfaceRays& rays,
-                 std::vector<GatherEntry>& out) {
-    const uint32_t n = t.end - t.begin;
+void plan_gather(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
+                 const Mat3& rot, int N, const SurfaceRays& rays, std::vector<GatherEntry>& out) {
     double lo_i = 1e300, hi_i = -1e300, lo_j = 1e300, hi_j = -1e300;
     bool rim = false;  // a sending pixel beside one the surface does not cover
     for (uint32_t e = 0; e < n; ++e) {
@@ -420,16 +424,15 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
     }
 }
 
-// Plans target t's gather: its pixels (with where their power arrives, `first` per plan
-// slot, or null) and entries, appended to `plan`.
-void plan_target(const Scene& scene, const SurfaceFrame& src, const SurfaceTarget& t,
-                 const SurfacePixel* px, const Mat3& rot, int N, const SurfaceRays& rays,
+// Plans the gather of a target (its n pixels px from source frame src): its pixels (with
+// where their power arrives, `first` per plan slot, or null) and entries, appended to `plan`.
+void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
+                 const Mat3& rot, int N, const SurfaceRays& rays,
                  const std::vector<uint64_t>* first, SurfaceGatherPlan& plan) {
-    const uint32_t n = t.end - t.begin;
     const size_t e0 = plan.entries.size();
     plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
     plan.entry_begin.push_back(uint32_t(e0));
-    plan_gather(scene, src, t, px, rot, N, rays, plan.entries);
+    plan_gather(scene, src, n, px, rot, N, rays, plan.entries);
     constexpr uint32_t kSmall = 64;
     uint8_t small[kSmall] = {};
     std::vector<uint8_t> large;
@@ -534,16 +537,15 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
     std::vector<std::vector<Ref>> by_direction(dirs.size());
-    for (uint32_t c = 0; c < sources.size(); ++c)
-        for (uint32_t k = 0; k < sources[c].targets.size(); ++k) {
-            const SurfaceTarget& t = sources[c].targets[k];
+    for (const SurfaceSources& from : sources)
+        for (const SurfaceTarget& t : from.targets)
             if (maps.holds(t.direction))
-                by_direction[size_t(t.direction)].push_back({c, k, t.surface, t.sense});
-        }
+                by_direction[size_t(t.direction)].push_back(
+                    {from.pixels.data() + t.begin, &from.frames[t.frame], t.end - t.begin,
+                     uint32_t(t.surface) * 2u + (t.sense > 0 ? 1u : 0u)});
     for (auto& v : by_direction)
-        std::stable_sort(v.begin(), v.end(), [](const Ref& a, const Ref& b) {
-            return std::tie(a.surface, a.sense) < std::tie(b.surface, b.sense);
-        });
+        std::stable_sort(v.begin(), v.end(),
+                         [](const Ref& a, const Ref& b) { return a.group < b.group; });
     const double a = ray_area(N);
     const bool keep = arrivals != nullptr;
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
@@ -558,29 +560,21 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         plan.clear();
         if (refs.empty()) return;
         const Mat3& rot = rotations[size_t(d)];
-        // The targets and their pixels lie anywhere in the chunks' arrays: each is fetched
-        // ahead of its turn, the target first and its first pixel once the target is in.
-        auto target_of = [&](size_t r) { return &sources[refs[r].chunk].targets[refs[r].target]; };
-        auto pixels_of = [&](size_t r) {
-            return sources[refs[r].chunk].pixels.data() + target_of(r)->begin;
-        };
+        // The targets' pixels lie anywhere in the chunks' arrays: each target's are fetched
+        // a few targets ahead of its turn.
         std::vector<SurfaceRays*> group_rays;
         for (size_t r = 0; r < refs.size(); ++r) {
-            if (r + 2 * kRefsAhead < refs.size()) __builtin_prefetch(target_of(r + 2 * kRefsAhead));
             if (r + kRefsAhead < refs.size()) {
-                const SurfacePixel* p = pixels_of(r + kRefsAhead);
+                const SurfacePixel* p = refs[r + kRefsAhead].pixels;
                 __builtin_prefetch(p);
                 __builtin_prefetch(reinterpret_cast<const char*>(p + 1) - 1);
             }
-            if (r == 0 || refs[r].surface != refs[r - 1].surface ||
-                refs[r].sense != refs[r - 1].sense) {
-                plan.groups.push_back({refs[r].surface, refs[r].sense, 0});
-                group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, refs[r].surface,
-                                              int(d), refs[r].sense, cache));
+            if (r == 0 || refs[r].group != refs[r - 1].group) {
+                plan.groups.push_back({refs[r].surface(), refs[r].sense(), 0});
+                group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, refs[r].surface(),
+                                              int(d), refs[r].sense(), cache));
             }
-            const SurfaceSources& from = sources[refs[r].chunk];
-            const SurfaceTarget& t = from.targets[refs[r].target];
-            plan_target(scene, from.frames[t.frame], t, from.pixels.data() + t.begin, rot, N,
+            plan_target(scene, *refs[r].frame, refs[r].n, refs[r].pixels, rot, N,
                         *group_rays.back(), keep ? &arrivals->first : nullptr, plan);
             plan.groups.back().end = uint32_t(r + 1);
         }
@@ -588,11 +582,8 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         plan.entry_begin.push_back(uint32_t(plan.entries.size()));
         rounding[size_t(d - maps.first)] = run_plan(
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
-            [&](uint32_t t, uint32_t e) {
-                const SurfaceSources& from = sources[refs[t].chunk];
-                return from.pixels[from.targets[refs[t].target].begin + e].power;
-            },
-            [&](uint32_t t, uint32_t e) -> const void* { return pixels_of(t) + e; }, maps);
+            [&](uint32_t t, uint32_t e) { return refs[t].pixels[e].power; },
+            [&](uint32_t t, uint32_t e) -> const void* { return refs[t].pixels + e; }, maps);
         if (keep) {
             SurfaceGatherPlan& kept = cache.gathers[size_t(d)];
             kept.groups = plan.groups;
