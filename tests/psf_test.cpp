@@ -128,6 +128,42 @@ TEST(PsfFillRule, SharedEdgesPartitionTheRays) {
     }
 }
 
+// count_covered (the coverage count of the transport's set-up) is rasterise_face's count:
+// random triangles and quads, small and large, at the edge of the grid and beyond it, and
+// faces seen edge-on, in every direction of a set.
+TEST(PsfCoverage, CountMatchesTheRaster) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.2, 1.2), size(0.001, 0.6);
+    std::vector<std::vector<Vec3>> polys;
+    for (int k = 0; k < 60; ++k) {
+        const Vec3 c(u(rng), u(rng), u(rng));
+        const double r = size(rng);
+        const int n = 3 + k % 2;
+        std::vector<Vec3> p;
+        for (int i = 0; i < n; ++i) {
+            const double a = 2 * kPi * i / n + 0.3 * k;
+            p.push_back(c + r * Vec3(std::cos(a), std::sin(a), 0.2 * std::sin(2 * a + k)));
+        }
+        polys.push_back(p);
+    }
+    polys.push_back({{-0.5, 0, -0.5}, {0.5, 0, -0.5}, {0.5, 0, 0.5}, {-0.5, 0, 0.5}});  // y = 0
+    const Scene scene = test::make_scene(polys);
+    const DirectionSet dirs(129);
+    FaceRaster fr;
+    int64_t total = 0;
+    for (int d = 0; d < dirs.size(); ++d) {
+        const Mat3 rot = rotation_to_z(dirs.direction(d));
+        for (const Face& f : scene.faces)
+            for (const auto& [N, m] : {std::pair{64, 8}, std::pair{60, 20}}) {
+                rasterise_face(f, rot, N, m, fr);
+                ASSERT_EQ(count_covered(f, rot, N), fr.covered)
+                    << "face " << f.id << " direction " << d << " N " << N;
+                total += fr.covered;
+            }
+    }
+    EXPECT_GT(total, 100000);
+}
+
 TEST(PsfTiles, FragmentsLieInsideTheirTiles) {
     const Scene scene = load_scene(test::source_path("scenes/cornell.json"));
     const DirectionSet dirs(33);

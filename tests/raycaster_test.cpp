@@ -125,6 +125,8 @@ TEST(RayCaster, TwoSidedPanelShowsTheSideTheRayMeets) {
     ASSERT_EQ(s.faces.size(), 2u);
     ASSERT_EQ(s.faces[0].twin, 1);
     const RayCaster rc(s);
+    // The polygon goes into the hierarchy once (two triangles of a fan), not once per side.
+    EXPECT_EQ(rc.triangles(), 2);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-0.3, 0.3);  // the panel spans +-0.707 here
     int hits = 0;

@@ -221,6 +221,26 @@ void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int 
                      out);
 }
 
+uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution) {
+    const int N = resolution;
+    if (std::abs((rotation * face.normal).z) < 1e-12) return 0;  // as rasterise_face
+    thread_local std::vector<Vec2> proj;
+    thread_local std::vector<int> row_i0, row_i1;
+    row_i0.resize(N);
+    row_i1.resize(N);
+    double ymin = 1e300, ymax = -1e300;
+    project_face(face, rotation, proj, ymin, ymax);
+    const int jlo = first_centre_at_or_after(ymin, N);
+    const int jhi = first_centre_at_or_after(ymax, N);
+    if (jlo >= jhi) return 0;
+    row_spans(proj, N, jlo, jhi, row_i0, row_i1);
+    // Every covered ray of a row lies in one of the tiles rasterise_face cuts it into.
+    uint32_t covered = 0;
+    for (int j = jlo; j < jhi; ++j)
+        if (row_i1[j] > row_i0[j]) covered += uint32_t(row_i1[j] - row_i0[j]);
+    return covered;
+}
+
 PsfMemory memory_of(const Psf& psf) {
     PsfMemory mem;
     mem.tiles = sizeof(Psf) + psf.tile_of.capacity() * sizeof(int32_t) +

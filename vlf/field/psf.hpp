@@ -127,6 +127,9 @@ struct FaceRaster {
 };
 void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
                     FaceRaster& out);
+// The rays the face covers in that frame (rasterise_face's `covered`) without the
+// fragments: for a caller that only counts.
+uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution);
 
 // Bytes held by the PSF's tiles, fragments and edge tables.
 struct PsfMemory {

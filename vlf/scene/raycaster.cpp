@@ -87,6 +87,9 @@ RayCaster::RayCaster(const Scene& scene) : m_scene(scene), m_impl(std::make_uniq
     std::vector<unsigned> indices;
     for (const Face& f : scene.faces) {
         if (f.vertices.size() < 3) continue;  // degenerate: nothing to hit
+        // A two-sided surface goes in once: a hit on it is reported as the side facing the
+        // ray (intersect), on the same plane, so its twin would only double the work.
+        if (f.twin >= 0 && f.twin < f.id) continue;
         for (size_t k = 0; k < f.vertices.size(); ++k)
             if (!finite(f.vertices[k]))
                 throw Error(

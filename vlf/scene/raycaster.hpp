@@ -32,7 +32,8 @@ class RayCaster {
     RayCaster& operator=(const RayCaster&) = delete;
 
     // Closest hit with t in [tmin, tmax] (tmin < 0 counts as 0), either side of a face;
-    // on a two-sided surface (a face and its twin) the face whose front the ray meets.
+    // on a two-sided surface (a face and its twin, one polygon in the hierarchy) the face
+    // whose front the ray meets.
     // `dir` need not be unit.
     // Safe to call from many threads at once.
     bool intersect(const Vec3& origin, const Vec3& dir, double tmin, double tmax,

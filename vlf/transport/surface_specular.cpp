@@ -276,9 +276,10 @@ void sample(const SurfacePixel* px, uint32_t n, int i, int j, double z, double t
             out.push_back({ray, e, 1.0f / float(count)});
 }
 
-// The scene-frame point of source pixel (i, j)'s corner (ci, cj in 0..1) on face f's plane.
-Vec3 corner_point(const SurfaceFrame& t, const Face& f, int i, int j, double ci, double cj) {
-    const Vec3 n = rotate(t.rotation, f.normal);
+// The scene-frame point of source pixel (i, j)'s corner (ci, cj in 0..1) on face f's plane
+// (n: f's normal in t's frame).
+Vec3 corner_point(const SurfaceFrame& t, const Face& f, const Vec3& n, int i, int j, double ci,
+                  double cj) {
     const double x = 2.0 * (i + ci) / t.resolution - 1.0, y = 2.0 * (j + cj) / t.resolution - 1.0;
     const double z = (f.plane_offset - n.x * x - n.y * y) / n.z;
     return rotate_back(t.rotation, Vec3(x, y, z));
@@ -328,10 +329,11 @@ void plan_gather(const Scene& scene, const SurfaceFrame& src, uint32_t n, const 
         const SurfacePixel& p = px[e];
         rim |= (p.around & 0x739c0u) != 0x739c0u;  // its 3 x 3 (bits 6-8, 11-13, 16-18)
         const Face& f = scene.faces[size_t(p.face)];
-        const bool steep = std::abs(rotate(src.rotation, f.normal).z) < 1e-3;
+        const Vec3 fn = rotate(src.rotation, f.normal);
+        const bool steep = std::abs(fn.z) < 1e-3;
         for (int c = 0; c < 4; ++c) {
-            const Vec3 x = steep ? corner_point(src, f, p.i, p.j, 0.5, 0.5)
-                                 : corner_point(src, f, p.i, p.j, c & 1, c >> 1);
+            const Vec3 x = steep ? corner_point(src, f, fn, p.i, p.j, 0.5, 0.5)
+                                 : corner_point(src, f, fn, p.i, p.j, c & 1, c >> 1);
             const Vec3 q = rot * x;
             const double u = (q.x + 1.0) * 0.5 * N, v = (q.y + 1.0) * 0.5 * N;
             lo_i = std::min(lo_i, u), hi_i = std::max(hi_i, u);

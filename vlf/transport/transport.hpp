@@ -48,7 +48,7 @@ namespace vlf {
 
 // Rays each face with `which[f]` covers in each PSF (coverage.hpp).
 Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations, int resolution,
-                          int tile, const std::vector<uint8_t>& which);
+                          const std::vector<uint8_t>& which);
 // Per emitting chart (the others are 0 here and summed from the first cycle's geometry):
 // the sum over the directions it has rays in of its projected_cosine * Delta_d (VLF §4.4
 // eq. (3)).

@@ -13,7 +13,7 @@
 
 namespace vlf {
 
-Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations, int N, int m,
+Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations, int N,
                           const std::vector<uint8_t>& which) {
     const size_t nf = scene.faces.size();
     Coverage cov;
@@ -27,11 +27,9 @@ Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations
         }
     cov.count.assign(rotations.size() * size_t(cov.rows), 0);
     parallel_for(0, static_cast<long>(rotations.size()), [&](long d) {
-        FaceRaster fr;
-        for (int k = 0; k < cov.rows; ++k) {
-            rasterise_face(scene.faces[faces[k]], rotations[d], N, m, fr);
-            cov.count[size_t(d) * cov.rows + k] = fr.covered;
-        }
+        for (int k = 0; k < cov.rows; ++k)
+            cov.count[size_t(d) * cov.rows + k] =
+                count_covered(scene.faces[faces[k]], rotations[d], N);
     });
     return cov;
 }
@@ -114,12 +112,12 @@ Transport::Pass Transport::make_pass(int p) const {
     // The emitters' normalisers now (they send in the first cycle), on the pass's grid.
     std::vector<uint8_t> emitters(m_scene.faces.size(), 0);
     for (const Face& f : m_scene.faces) emitters[f.id] = m_scene.material_of(f).is_emitter();
-    pass.send_norm = p == 0 && s == 1
-                         ? send_normalisers(m_scene, m_dirs, m_rot, m_coverage)
-                         : send_normalisers(m_scene, m_dirs, pass.rotations,
-                                            measure_coverage(m_scene, pass.rotations,
-                                                             m_params.field.resolution * s,
-                                                             m_params.field.tile * s, emitters));
+    pass.send_norm =
+        p == 0 && s == 1
+            ? send_normalisers(m_scene, m_dirs, m_rot, m_coverage)
+            : send_normalisers(m_scene, m_dirs, pass.rotations,
+                               measure_coverage(m_scene, pass.rotations,
+                                                m_params.field.resolution * s, emitters));
     return pass;
 }
 
@@ -138,8 +136,7 @@ Transport::Transport(const Scene& scene, const PropagateParams& params, Ranks& r
         const Material& mat = scene.material_of(f);
         measured[f.id] = mat.is_emitter() || mat.is_specular() || params.store_all_rays;
     }
-    m_coverage =
-        measure_coverage(scene, m_rot, params.field.resolution, params.field.tile, measured);
+    m_coverage = measure_coverage(scene, m_rot, params.field.resolution, measured);
     m_surfaces = find_smooth_surfaces(scene, m_dirs, m_coverage);
     m_caustic_faces = caustic_faces(scene, m_surfaces);
     if (params.cache_budget_mib > 0)  // (kept only with a cache budget, as the geometry)
