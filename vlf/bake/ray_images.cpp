@@ -50,6 +50,13 @@ RaySource ray_source(const RayImages& rays) {
 
 namespace {
 
+// What resampling needs: the scene's ray caster and the resampler that traces with it.
+struct Tracing {
+    RayCaster caster;
+    SpecularResampler resampler;
+    Tracing(const Scene& s, Transport& t) : caster(s), resampler(t, caster) {}
+};
+
 struct Sample {
     uint32_t pixel;
     int32_t face;
@@ -58,9 +65,11 @@ struct Sample {
 
 // The samples of direction d in each stored face's local ray order (its fragments in tile
 // row-major order, each in edge-table order); rasterising the face alone with the same
-// rotation recovers the pixel of every entry.
+// rotation recovers the pixel of every entry. With a resampler, each face it resamples is
+// resampled from that raster first.
 void face_samples(const Scene& scene, const PropagateParams& params, const Transport& transport,
-                  int d, FaceRaster& raster, std::vector<Sample>& samples) {
+                  const SpecularResampler* resampler, int d, FaceRaster& raster,
+                  std::vector<Sample>& samples) {
     const int N = params.field.resolution, m = params.field.tile;
     const RadianceMaps& spec = transport.specular_maps();
     const RadianceMaps& other = transport.other_maps();
@@ -73,6 +82,7 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
         const uint64_t begin = maps->begin(d, f.id), count = maps->count(d, f.id);
         rasterise_face(f, transport.rotations()[d], N, m, raster);
         VLF_CHECK(raster.covered == count);
+        if (resampler != nullptr && maps == &spec) resampler->face(d, f.id, raster);
         uint64_t k = begin;
         for (const FaceFragment& frag : raster.fragments)
             raster.edge_table(frag).for_each_ray([&](int u, int v, int) {
@@ -82,10 +92,10 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
     }
 }
 
-}  // namespace
-
-RaySource ray_source(const Scene& scene, const PropagateParams& params,
-                     const Transport& transport) {
+// The stored rays of a propagation, resampled first where `tracing` is given (it is kept
+// alive by the source).
+RaySource rays_of(const Scene& scene, const PropagateParams& params, const Transport& transport,
+                  std::shared_ptr<const Tracing> tracing) {
     // A counting sort of the faces' samples by pixel (stable: each pixel keeps ascending
     // face order) gives the layered depth image. Each thread has its own scratch: the bake
     // writer asks for several directions at once.
@@ -95,11 +105,12 @@ RaySource ray_source(const Scene& scene, const PropagateParams& params,
         std::vector<uint32_t> cursor;
     };
     auto state = std::make_shared<tbb::enumerable_thread_specific<State>>();
-    return [&scene, &params, &transport, state](int d, DirectionRays& out) {
+    return [&scene, &params, &transport, state, tracing](int d, DirectionRays& out) {
         const int N = params.field.resolution;
         const size_t px = size_t(N) * N;
         State& st = state->local();
-        face_samples(scene, params, transport, d, st.raster, st.samples);
+        face_samples(scene, params, transport, tracing ? &tracing->resampler : nullptr, d,
+                     st.raster, st.samples);
         out.counts.assign(px, 0);
         for (const Sample& s : st.samples) ++out.counts[s.pixel];
         st.cursor.resize(px);
@@ -118,18 +129,16 @@ RaySource ray_source(const Scene& scene, const PropagateParams& params,
     };
 }
 
+}  // namespace
+
+RaySource ray_source(const Scene& scene, const PropagateParams& params,
+                     const Transport& transport) {
+    return rays_of(scene, params, transport, nullptr);
+}
+
 RaySource resampling_ray_source(const Scene& scene, const PropagateParams& params,
                                 Transport& transport) {
-    struct Tracing {
-        RayCaster caster;
-        SpecularResampler resampler;
-        Tracing(const Scene& s, Transport& t) : caster(s), resampler(t, caster) {}
-    };
-    auto tracing = std::make_shared<Tracing>(scene, transport);
-    return [tracing, rays = ray_source(scene, params, transport)](int d, DirectionRays& out) {
-        tracing->resampler.direction(d);
-        rays(d, out);
-    };
+    return rays_of(scene, params, transport, std::make_shared<const Tracing>(scene, transport));
 }
 
 RayImages gather_rays(const RaySource& source, int directions, int resolution, int tile) {

@@ -113,34 +113,45 @@ SpecularResampler::SpecularResampler(Transport& transport, const RayCaster& cast
     VLF_CHECK(caster.scene().faces.size() == transport.scene().faces.size());
 }
 
+bool SpecularResampler::resamples(int f) const {
+    // An inner face's front looks into its glass: only an eye inside the glass sees it
+    // (render.cpp), and it keeps the field's L_T.
+    return m_transport.specular_maps().stores(f) && !m_transport.scene().faces[size_t(f)].inner;
+}
+
+bool SpecularResampler::face(int d, int fid, const FaceRaster& fr) const {
+    RadianceMaps& maps = m_transport.specular_maps();
+    const uint64_t n = maps.count(d, fid);
+    if (n == 0 || !resamples(fid)) return false;
+    VLF_CHECK(fr.covered == n);
+    const Scene& scene = m_transport.scene();
+    const int N = m_transport.params().field.resolution, m = m_transport.params().field.tile;
+    const Mat3& rot = m_transport.rotations()[size_t(d)];
+    // The face sends along +omega_d when its front faces +z of the PSF.
+    const Vec3 travel = double(fr.facing) * m_transport.directions().direction(d);
+    const PlaneInPsf plane(scene.faces[size_t(fid)], rot, N);
+    const std::vector<size_t>& offset = m_transport.texture_maps().offset;
+    const uint64_t base = maps.begin(d, fid);
+    uint64_t k = 0;  // face-local ray order: fragments in tile order, edge-table order
+    for (const FaceFragment& ff : fr.fragments)
+        fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
+            const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
+            const Rgb L =
+                specular_path_radiance(scene, m_caster, m_radiance, offset, fid, point, travel);
+            maps.total[base + k++] = RgbF(L);
+        });
+    return true;
+}
+
 void SpecularResampler::direction(int d) const {
     const Scene& scene = m_transport.scene();
     const int N = m_transport.params().field.resolution, m = m_transport.params().field.tile;
-    const std::vector<size_t>& offset = m_transport.texture_maps().offset;
-    const DirectionSet& dirs = m_transport.directions();
-    const Mat3& rot = m_transport.rotations()[size_t(d)];
-    RadianceMaps& maps = m_transport.specular_maps();
+    const RadianceMaps& maps = m_transport.specular_maps();
     thread_local FaceRaster fr;
     for (int fid : maps.faces) {
-        const uint64_t n = maps.count(d, fid);
-        const Face& face = scene.faces[fid];
-        // An inner face's front looks into its glass: only an eye inside the glass sees it
-        // (render.cpp), and it keeps the field's L_T.
-        if (n == 0 || face.inner) continue;
-        rasterise_face(face, rot, N, m, fr);
-        VLF_CHECK(fr.covered == n);
-        // The face sends along +omega_d when its front faces +z of the PSF.
-        const Vec3 travel = double(fr.facing) * dirs.direction(d);
-        const PlaneInPsf plane(face, rot, N);
-        const uint64_t base = maps.begin(d, fid);
-        uint64_t k = 0;  // face-local ray order: fragments in tile order, edge-table order
-        for (const FaceFragment& ff : fr.fragments)
-            fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
-                const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
-                const Rgb L =
-                    specular_path_radiance(scene, m_caster, m_radiance, offset, fid, point, travel);
-                maps.total[base + k++] = RgbF(L);
-            });
+        if (maps.count(d, fid) == 0 || !resamples(fid)) continue;
+        rasterise_face(scene.faces[size_t(fid)], m_transport.rotations()[size_t(d)], N, m, fr);
+        face(d, fid, fr);
     }
 }
 

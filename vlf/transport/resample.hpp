@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vlf/core/math.hpp"
+#include "vlf/field/psf.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/scene/scene.hpp"
 #include "vlf/transport/transport.hpp"
@@ -55,6 +56,12 @@ class SpecularResampler {
     SpecularResampler(Transport& transport, const RayCaster& caster);
     // Resamples direction d's specular L_T. Thread-safe for distinct directions.
     void direction(int d) const;
+    // Resamples face f's rays in direction d, `raster` its rasterise_face in d (a caller
+    // that rasterises the face anyway passes its own); false, and nothing written, for a
+    // face that is not resampled (not specular, no rays in d, or an inner glass face).
+    bool face(int d, int f, const FaceRaster& raster) const;
+    // Whether face f's rays are resampled (in the directions it has rays in).
+    bool resamples(int f) const;
 
   private:
     Transport& m_transport;

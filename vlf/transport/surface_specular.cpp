@@ -566,11 +566,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         // a few targets ahead of its turn.
         std::vector<SurfaceRays*> group_rays;
         for (size_t r = 0; r < refs.size(); ++r) {
-            if (r + kRefsAhead < refs.size()) {
-                const SurfacePixel* p = refs[r + kRefsAhead].pixels;
-                __builtin_prefetch(p);
-                __builtin_prefetch(reinterpret_cast<const char*>(p + 1) - 1);
-            }
+            if (r + kRefsAhead < refs.size()) __builtin_prefetch(refs[r + kRefsAhead].pixels);
             if (r == 0 || refs[r].group != refs[r - 1].group) {
                 plan.groups.push_back({refs[r].surface(), refs[r].sense(), 0});
                 group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, refs[r].surface(),

@@ -34,8 +34,8 @@
 
 namespace vlf {
 
-// A sending pixel of a target.
-struct SurfacePixel {
+// A sending pixel of a target. One cache line each: the gathers read them in no order.
+struct alignas(64) SurfacePixel {
     int32_t i, j;     // on the source PSF's grid
     int32_t face;     // the face its ray met
     float depth;      // z of that point in the source PSF's frame
@@ -45,6 +45,7 @@ struct SurfacePixel {
     uint32_t plan;    // its ray's plan (SurfacePlans slot) and the ray in it: where its
     uint32_t ray;     // power arrives on later cycles (SurfaceArrivals)
 };
+static_assert(sizeof(SurfacePixel) == 64);
 
 // The source PSF of a pass direction.
 struct SurfaceFrame {
