@@ -503,8 +503,12 @@ Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGa
         acc.assign(rays.rays.size(), Rgb(0.0));
         for (; t < group.end; ++t) {
             if (const uint32_t ta = t + kAhead; ta < targets)
-                for (uint32_t e = plan.pixel_begin[ta]; e < plan.pixel_begin[ta + 1]; ++e)
-                    __builtin_prefetch(ahead(ta, e - plan.pixel_begin[ta]));
+                for (uint32_t e = plan.pixel_begin[ta]; e < plan.pixel_begin[ta + 1]; ++e) {
+                    // (A power may straddle two cache lines: both are fetched.)
+                    const char* at = static_cast<const char*>(ahead(ta, e - plan.pixel_begin[ta]));
+                    __builtin_prefetch(at);
+                    __builtin_prefetch(at + sizeof(Rgb) - 1);
+                }
             const uint32_t p0 = plan.pixel_begin[t];
             apply_target(
                 plan.pixels.data() + p0, plan.pixel_begin[t + 1] - p0,
