@@ -543,6 +543,13 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
     std::vector<std::vector<Ref>> by_direction(dirs.size());
+    {  // each direction's refs at their size (growing them would copy them and touch twice)
+        std::vector<size_t> count(dirs.size(), 0);
+        for (const SurfaceSources& from : sources)
+            for (const SurfaceTarget& t : from.targets) ++count[size_t(t.direction)];
+        for (size_t d = 0; d < count.size(); ++d)
+            if (maps.holds(int(d))) by_direction[d].reserve(count[d]);
+    }
     for (const SurfaceSources& from : sources)
         for (const SurfaceTarget& t : from.targets)
             if (maps.holds(t.direction))
