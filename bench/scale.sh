@@ -89,6 +89,7 @@ for i in range(1, n + 1):
     rss_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", tv).group(1))
     hms = re.search(r"Elapsed \(wall clock\) time.*: ([\d:.]+)", tv).group(1).split(":")
     wall = sum(float(x) * 60 ** k for k, x in enumerate(reversed(hms)))
+    # (propagate resamples specular maps in the bake writer: that time is in "write")
     prop = sum(t[k] for k in ("passes", "specular", "filter", "bookkeeping", "resample"))
     rows.append((t["setup"], prop, t.get("gather", 0.0), t["write"], wall, rss_kb / 1024))
     faces = r["scene"]["faces"]
