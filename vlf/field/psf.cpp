@@ -191,6 +191,22 @@ void cut_tile_row(const std::vector<int>& row_i0, const std::vector<int>& row_i1
     }
 }
 
+// The face's rows in this thread's t_row_i0/t_row_i1: rows [jlo, jhi) of an N x N grid
+// with their spans (row_spans); false when no ray centre row crosses the face.
+thread_local std::vector<int> t_row_i0, t_row_i1;
+bool face_rows(const Face& face, const Mat3& rotation, int N, int& jlo, int& jhi) {
+    thread_local std::vector<Vec2> proj;
+    t_row_i0.resize(N);
+    t_row_i1.resize(N);
+    double ymin = 1e300, ymax = -1e300;
+    project_face(face, rotation, proj, ymin, ymax);
+    jlo = first_centre_at_or_after(ymin, N);
+    jhi = first_centre_at_or_after(ymax, N);  // exclusive
+    if (jlo >= jhi) return false;
+    row_spans(proj, N, jlo, jhi, t_row_i0, t_row_i1);
+    return true;
+}
+
 }  // namespace
 
 void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int tile_size,
@@ -204,40 +220,23 @@ void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int 
     if (std::abs(nr.z) < 1e-12) return;  // edge-on: covers no ray
     out.facing = nr.z > 0 ? 1 : -1;
 
-    thread_local std::vector<Vec2> proj;
-    thread_local std::vector<int> row_i0, row_i1;
-    row_i0.resize(N);
-    row_i1.resize(N);
-    double ymin = 1e300, ymax = -1e300;
-    project_face(face, rotation, proj, ymin, ymax);
-    const int jlo = first_centre_at_or_after(ymin, N);
-    const int jhi = first_centre_at_or_after(ymax, N);  // exclusive
-    if (jlo >= jhi) return;
-
-    row_spans(proj, N, jlo, jhi, row_i0, row_i1);
+    int jlo = 0, jhi = 0;
+    if (!face_rows(face, rotation, N, jlo, jhi)) return;
     // Cut the rows into tiles, row-major.
     for (int tr = jlo / m; tr <= (jhi - 1) / m; ++tr)
-        cut_tile_row(row_i0, row_i1, n, m, tr, std::max(jlo, tr * m), std::min(jhi, tr * m + m),
+        cut_tile_row(t_row_i0, t_row_i1, n, m, tr, std::max(jlo, tr * m), std::min(jhi, tr * m + m),
                      out);
 }
 
 uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution) {
     const int N = resolution;
     if (std::abs((rotation * face.normal).z) < 1e-12) return 0;  // as rasterise_face
-    thread_local std::vector<Vec2> proj;
-    thread_local std::vector<int> row_i0, row_i1;
-    row_i0.resize(N);
-    row_i1.resize(N);
-    double ymin = 1e300, ymax = -1e300;
-    project_face(face, rotation, proj, ymin, ymax);
-    const int jlo = first_centre_at_or_after(ymin, N);
-    const int jhi = first_centre_at_or_after(ymax, N);
-    if (jlo >= jhi) return 0;
-    row_spans(proj, N, jlo, jhi, row_i0, row_i1);
+    int jlo = 0, jhi = 0;
+    if (!face_rows(face, rotation, N, jlo, jhi)) return 0;
     // Every covered ray of a row lies in one of the tiles rasterise_face cuts it into.
     uint32_t covered = 0;
     for (int j = jlo; j < jhi; ++j)
-        if (row_i1[j] > row_i0[j]) covered += uint32_t(row_i1[j] - row_i0[j]);
+        if (t_row_i1[j] > t_row_i0[j]) covered += uint32_t(t_row_i1[j] - t_row_i0[j]);
     return covered;
 }
 

@@ -593,14 +593,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
             [&](uint32_t t, uint32_t e) { return refs[t].pixels[e].power; },
             [&](uint32_t t, uint32_t e) -> const void* { return refs[t].pixels + e; }, maps);
-        if (keep) {
-            SurfaceGatherPlan& kept = cache.gathers[size_t(d)];
-            kept.groups = plan.groups;
-            kept.pixel_begin = plan.pixel_begin;
-            kept.entry_begin = plan.entry_begin;
-            kept.pixels = plan.pixels;
-            kept.entries = plan.entries;
-        }
+        if (keep) cache.gathers[size_t(d)] = plan;  // (a copy holds just the sizes)
     });
     if (keep) arrivals->ready = true;
     return rounding;
