@@ -16,6 +16,7 @@
 #include "vlf/scene/scene_loader.hpp"
 #include "vlf/transport/propagation.hpp"
 #include "vlf/transport/quality.hpp"
+#include "vlf/transport/surface_specular.hpp"
 
 namespace vlf {
 namespace {
@@ -579,6 +580,24 @@ TEST(TransportDeterminism, KeptSmoothSurfacePlansDoNotChangeTheMaps) {
     const std::unique_ptr<Transport> none = run_transport(scene, p);
     EXPECT_EQ(none->surface_plan_bytes(), 0);
     expect_same_maps(*kept, *none);
+}
+
+// Once the gathers keep plans of their own, a pass's plan gives its memory back: only its
+// losses and ray count stay.
+TEST(TransportDeterminism, StrippedSurfacePlanReleasesItsTargets) {
+    SurfacePlan plan;
+    plan.targets.resize(1000);
+    plan.pixels.resize(3000);
+    plan.lost.push_back({5u, Rgb(0.25)});
+    plan.rays = 7;
+    plan.built = true;
+    plan.strip();
+    EXPECT_TRUE(plan.stripped);
+    EXPECT_EQ(plan.targets.capacity(), 0u);
+    EXPECT_EQ(plan.pixels.capacity(), 0u);
+    EXPECT_EQ(plan.bytes(), int64_t(plan.lost.capacity() * sizeof(plan.lost[0])));
+    ASSERT_EQ(plan.lost.size(), 1u);
+    EXPECT_EQ(plan.rays, 7u);
 }
 
 // In the last cycle that perturbs, a perturbed pass clips only the rays that carry power

@@ -361,6 +361,9 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
             }
             apply_surface_plan(plan, keep ? uint32_t(slot) : ~0u, rays, res.lost.grazing_mirror,
                                out);
+            // Where the gathers will keep plans of their own (reading arrivals), this plan's
+            // targets are not needed again: only its losses and ray count are.
+            if (keep && arrivals != nullptr) plan.strip();
         }
     if (out.empty()) res.sources.surfaces.pop_back();
 }

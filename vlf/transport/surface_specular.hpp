@@ -106,8 +106,8 @@ struct SurfacePlan {
     int64_t bytes() const;
     // Drops the targets once the gathers read arrivals (the losses and the ray count stay).
     void strip() {
-        targets = {};
-        pixels = {};
+        std::vector<Target>().swap(targets);  // (`= {}` would keep the capacity)
+        std::vector<Pixel>().swap(pixels);
         stripped = true;
     }
 };
