@@ -331,11 +331,11 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
     // array per chunk grown as it goes would copy its pixels at every doubling and touch
     // twice their memory.
     SurfaceSources& out = res.sources.surfaces.emplace_back();
-    out.frames.push_back(surface_frame(pc.rotations[pd.d], pc.N));
+    out.frame = surface_frame(pc.rotations[pd.d], pc.N, pd.d);
     const bool keep = pc.surface_plans != nullptr;
     auto incoming = [&](int side) { return pd.g.psf.omega * (side == 0 ? -1.0 : 1.0); };
     if (keep) {  // the plans first, kept in their slots, then the arrays at their size
-        size_t targets = 0, pixels = 0;
+        size_t targets = 0, pixels = 0, rays_in_all = 0;
         for (int s = 0; s < surfaces.size(); ++s)
             for (int side = 0; side < 2; ++side) {
                 const std::vector<SurfaceRay>& rays = w.surface_rays[size_t(s) * 2 + side];
@@ -343,9 +343,11 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
                 if (!plan.built || plan.stripped || plan.rays != rays.size())
                     make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming(side), rays, plan);
                 targets += plan.targets.size(), pixels += plan.pixels.size();
+                rays_in_all += rays.size();
             }
         out.targets.reserve(targets);
         out.pixels.reserve(pixels);
+        out.power.reserve(rays_in_all);
     }
     for (int s = 0; s < surfaces.size(); ++s)
         for (int side = 0; side < 2; ++side) {
@@ -359,8 +361,7 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
                 if (!lit) continue;  // (a kept plan's targets are sent lit or not)
                 make_surface_plan(pc.scene, pc.dirs, surfaces, s, incoming(side), rays, plan);
             }
-            apply_surface_plan(plan, keep ? uint32_t(slot) : ~0u, rays, res.lost.grazing_mirror,
-                               out);
+            apply_surface_plan(plan, rays, res.lost.grazing_mirror, out);
             // Where the gathers will keep plans of their own (reading arrivals), this plan's
             // targets are not needed again: only its losses and ray count are.
             if (keep && arrivals != nullptr) plan.strip();

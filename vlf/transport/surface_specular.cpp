@@ -142,8 +142,9 @@ void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
 
 }  // namespace
 
-SurfaceFrame surface_frame(const Mat3& rotation, int N) {
-    return {to_floats(rotation), N};
+SurfaceFrame surface_frame(const Mat3& rotation, int N, int direction) {
+    VLF_CHECK(N <= std::numeric_limits<int16_t>::max());  // (SurfacePixel's i, j)
+    return {to_floats(rotation), N, direction};
 }
 
 void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
@@ -172,18 +173,20 @@ void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const Smoot
         plan_layer(scene, dirs, surfaces, surface, incoming, rays, layer, plan);
 }
 
-void apply_surface_plan(const SurfacePlan& plan, uint32_t slot, const std::vector<SurfaceRay>& rays,
-                        Rgb& lost, SurfaceSources& out) {
+void apply_surface_plan(const SurfacePlan& plan, const std::vector<SurfaceRay>& rays, Rgb& lost,
+                        SurfaceSources& out) {
     VLF_CHECK(plan.built && plan.rays == rays.size());
     for (const auto& [ray, part] : plan.lost) lost += rays[ray].power * part;
-    const uint32_t frame = uint32_t(out.frames.size() - 1);
+    const uint32_t first = uint32_t(out.power.size());
+    for (const SurfaceRay& r : rays) out.power.push_back(r.power);
     for (const SurfacePlan::Target& pt : plan.targets) {
-        SurfaceTarget t{frame, pt.surface, pt.direction, pt.sense, uint32_t(out.pixels.size()), 0};
+        const uint32_t group = uint32_t(pt.surface) * 2u + (pt.sense > 0 ? 1u : 0u);
+        SurfaceTarget t{group, pt.direction, uint32_t(out.pixels.size()), 0};
         for (uint32_t k = pt.begin; k < pt.end; ++k) {
             const SurfacePlan::Pixel& p = plan.pixels[k];
             const SurfaceRay& r = rays[p.ray];
-            out.pixels.push_back(
-                {r.i, r.j, r.face, float(r.depth), r.power, p.part, p.around, slot, p.ray});
+            out.pixels.push_back({int16_t(r.i), int16_t(r.j), r.face, float(r.depth), p.around,
+                                  p.part, first + p.ray});
         }
         t.end = uint32_t(out.pixels.size());
         out.targets.push_back(t);
@@ -236,11 +239,8 @@ namespace {
 // in order and fetches only their pixels out of order.
 struct Ref {
     const SurfacePixel* pixels;
-    const SurfaceFrame* frame;
-    uint32_t n;      // pixels
-    uint32_t group;  // surface * 2 + (sense > 0): the target's rays
-    int surface() const { return int(group >> 1); }
-    int sense() const { return (group & 1u) ? 1 : -1; }
+    uint32_t source;  // in the pass's sources
+    uint32_t n;       // pixels
 };
 constexpr uint32_t kRefsAhead = 8;  // how far ahead a gather fetches its targets' pixels
 
@@ -427,10 +427,10 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
 }
 
 // Plans the gather of a target (its n pixels px from source frame src): its pixels (with
-// where their power arrives, `first` per plan slot, or null) and entries, appended to `plan`.
+// where their power is: `first` plus their rays' index) and entries, appended to `plan`.
 void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
-                 const Mat3& rot, int N, const SurfaceRays& rays,
-                 const std::vector<uint64_t>* first, SurfaceGatherPlan& plan) {
+                 const Mat3& rot, int N, const SurfaceRays& rays, uint64_t first,
+                 SurfaceGatherPlan& plan) {
     const size_t e0 = plan.entries.size();
     plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
     plan.entry_begin.push_back(uint32_t(e0));
@@ -450,8 +450,7 @@ void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const 
                                    2.0 * (q.j + 0.5) / src.resolution - 1.0, double(q.depth)));
             nearest = int32_t(nearest_ray(rays, rot, N, x));
         }
-        const uint32_t arrival = first != nullptr ? uint32_t((*first)[q.plan] + q.ray) : 0;
-        plan.pixels.push_back({arrival, nearest, q.part});
+        plan.pixels.push_back({uint32_t(first + q.ray), nearest, q.part});
     }
 }
 
@@ -542,57 +541,79 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         cache.built.assign(slots, 0);
         cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
-    std::vector<std::vector<Ref>> by_direction(dirs.size());
-    {  // each direction's refs at their size (growing them would copy them and touch twice)
-        std::vector<size_t> count(dirs.size(), 0);
-        for (const SurfaceSources& from : sources)
-            for (const SurfaceTarget& t : from.targets) ++count[size_t(t.direction)];
-        for (size_t d = 0; d < count.size(); ++d)
-            if (maps.holds(int(d))) by_direction[d].reserve(count[d]);
-    }
+    const bool keep = arrivals != nullptr;
+    if (keep)  // the first cycle's power where the kept plans will read it from now on
+        for (const SurfaceSources& from : sources) {
+            const int d = from.frame.direction;
+            const uint64_t b = arrivals->first[surfaces.pass_slot(d, 0, 0)];
+            VLF_CHECK(from.power.size() == arrivals->first[surfaces.pass_slot(d + 1, 0, 0)] - b);
+            std::copy(from.power.begin(), from.power.end(), arrivals->power.begin() + int64_t(b));
+        }
+    // The targets by direction and group (target surface and sense), each in source order: a
+    // counting sort into one array.
+    const size_t G = size_t(surfaces.size()) * 2;
+    std::vector<size_t> start(size_t(dirs.size()) * G + 1, 0);  // per (direction, group)
     for (const SurfaceSources& from : sources)
         for (const SurfaceTarget& t : from.targets)
-            if (maps.holds(t.direction))
-                by_direction[size_t(t.direction)].push_back(
-                    {from.pixels.data() + t.begin, &from.frames[t.frame], t.end - t.begin,
-                     uint32_t(t.surface) * 2u + (t.sense > 0 ? 1u : 0u)});
-    for (auto& v : by_direction)
-        std::stable_sort(v.begin(), v.end(),
-                         [](const Ref& a, const Ref& b) { return a.group < b.group; });
+            if (maps.holds(t.direction)) {
+                VLF_CHECK(t.group < G);
+                ++start[size_t(t.direction) * G + t.group + 1];
+            }
+    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    std::vector<Ref> refs(start.back());
+    {
+        std::vector<size_t> at(start.begin(), start.end() - 1);
+        for (size_t s = 0; s < sources.size(); ++s)
+            for (const SurfaceTarget& t : sources[s].targets)
+                if (maps.holds(t.direction))
+                    refs[at[size_t(t.direction) * G + t.group]++] = {
+                        sources[s].pixels.data() + t.begin, uint32_t(s), t.end - t.begin};
+    }
     const double a = ray_area(N);
-    const bool keep = arrivals != nullptr;
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
     // Each thread builds its plans in a scratch plan that keeps its memory from direction to
     // direction; a kept plan is copied out at its exact size (growing each one in place
     // would copy it and fault in fresh pages at every doubling).
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
     parallel_for(maps.first, maps.last, [&](long d) {
-        const auto& refs = by_direction[size_t(d)];
+        const Ref* ref = refs.data() + start[size_t(d) * G];
+        const size_t count = start[size_t(d + 1) * G] - start[size_t(d) * G];
         if (keep) cache.gathers[size_t(d)].clear();
         SurfaceGatherPlan& plan = scratch.local();
         plan.clear();
-        if (refs.empty()) return;
+        if (count == 0) return;
         const Mat3& rot = rotations[size_t(d)];
-        // The targets' pixels lie anywhere in the chunks' arrays: each target's are fetched
+        // The targets' pixels lie anywhere in the sources' arrays: each target's are fetched
         // a few targets ahead of its turn.
         std::vector<SurfaceRays*> group_rays;
-        for (size_t r = 0; r < refs.size(); ++r) {
-            if (r + kRefsAhead < refs.size()) __builtin_prefetch(refs[r + kRefsAhead].pixels);
-            if (r == 0 || refs[r].group != refs[r - 1].group) {
-                plan.groups.push_back({refs[r].surface(), refs[r].sense(), 0});
-                group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, refs[r].surface(),
-                                              int(d), refs[r].sense(), cache));
+        for (size_t g = 0; g < G; ++g) {
+            const size_t r0 = start[size_t(d) * G + g] - start[size_t(d) * G];
+            const size_t r1 = start[size_t(d) * G + g + 1] - start[size_t(d) * G];
+            if (r0 == r1) continue;
+            const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
+            plan.groups.push_back({surface, sense, uint32_t(r1)});
+            group_rays.push_back(
+                &rays_of(scene, dirs, surfaces, rot, N, m, surface, int(d), sense, cache));
+            for (size_t r = r0; r < r1; ++r) {
+                if (r + kRefsAhead < count) __builtin_prefetch(ref[r + kRefsAhead].pixels);
+                const SurfaceFrame& src = sources[ref[r].source].frame;
+                const uint64_t first =
+                    keep ? arrivals->first[surfaces.pass_slot(src.direction, 0, 0)] : 0;
+                plan_target(scene, src, ref[r].n, ref[r].pixels, rot, N, *group_rays.back(), first,
+                            plan);
             }
-            plan_target(scene, *refs[r].frame, refs[r].n, refs[r].pixels, rot, N,
-                        *group_rays.back(), keep ? &arrivals->first : nullptr, plan);
-            plan.groups.back().end = uint32_t(r + 1);
         }
         plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
         plan.entry_begin.push_back(uint32_t(plan.entries.size()));
+        // The power of a target's pixel: in the arrivals (kept plans), else in its source's.
+        auto at = [&](uint32_t t, uint32_t e) -> const Rgb* {
+            const uint32_t k = plan.pixels[plan.pixel_begin[t] + e].arrival;
+            return keep ? &arrivals->power[k] : &sources[ref[t].source].power[k];
+        };
         rounding[size_t(d - maps.first)] = run_plan(
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
-            [&](uint32_t t, uint32_t e) { return refs[t].pixels[e].power; },
-            [&](uint32_t t, uint32_t e) -> const void* { return refs[t].pixels + e; }, maps);
+            [&](uint32_t t, uint32_t e) { return *at(t, e); },
+            [&](uint32_t t, uint32_t e) -> const void* { return at(t, e); }, maps);
         if (keep) cache.gathers[size_t(d)] = plan;  // (a copy holds just the sizes)
     });
     if (keep) arrivals->ready = true;

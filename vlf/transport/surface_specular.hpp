@@ -34,44 +34,46 @@
 
 namespace vlf {
 
-// A sending pixel of a target. One cache line each: the gathers read them in no order.
-struct alignas(64) SurfacePixel {
-    int32_t i, j;     // on the source PSF's grid
+// A sending pixel of a target. Half a cache line each (the gathers read them in no order);
+// the power its ray brings is kept once per ray (SurfaceSources::power), not per target.
+struct alignas(32) SurfacePixel {
+    int16_t i, j;     // on the source PSF's grid
     int32_t face;     // the face its ray met
     float depth;      // z of that point in the source PSF's frame
-    Rgb power;        // arriving on its ray
-    double part;      // of that power that goes to the target (Fresnel part times weight)
     uint32_t around;  // bit (b + 2) * 5 + (a + 2): the surface covers pixel (i + a, j + b)
-    uint32_t plan;    // its ray's plan (SurfacePlans slot) and the ray in it: where its
-    uint32_t ray;     // power arrives on later cycles (SurfaceArrivals)
+    double part;      // of its ray's power that goes to the target (Fresnel part times weight)
+    uint32_t ray;     // in SurfaceSources::power (and, from the direction's first plan slot
+                      // on, in SurfaceArrivals::power)
 };
-static_assert(sizeof(SurfacePixel) == 64);
+static_assert(sizeof(SurfacePixel) == 32);
 
 // The source PSF of a pass direction.
 struct SurfaceFrame {
     std::array<float, 9> rotation;  // true or perturbed direction, row-major
     int resolution;                 // of its ray grid (N, or N * supersample)
+    int direction;                  // the pass direction
 };
 
-// One target of a smooth surface's source: the light of a pass direction (its frame) that
-// goes to `surface` along sense * omega_direction.
+// One target of a smooth surface's source: the light of the source's direction that goes
+// to surface `group / 2` along sense * omega_direction (sense +1 where group is odd).
 struct SurfaceTarget {
-    uint32_t frame;  // in SurfaceSources::frames
-    int surface, direction, sense;
+    uint32_t group;
+    int32_t direction;
     uint32_t begin, end;  // its pixels in SurfaceSources::pixels
+    int surface() const { return int(group >> 1); }
+    int sense() const { return (group & 1u) ? 1 : -1; }
 };
 
-// Smooth-surface sources (a chunk's, in direction order).
+// The smooth surfaces' sources of one pass direction.
 struct SurfaceSources {
-    std::vector<SurfaceFrame> frames;
+    SurfaceFrame frame;
     std::vector<SurfaceTarget> targets;
     std::vector<SurfacePixel> pixels;
+    // The power its surfaces' rays bring, surface by surface, each side (facing +z first),
+    // each in its rays' order: where a single rank's kept plans expect it in
+    // SurfaceArrivals::power from the direction's first plan slot on.
+    std::vector<Rgb> power;
     bool empty() const { return targets.empty(); }
-    void clear() {
-        frames.clear();
-        targets.clear();
-        pixels.clear();
-    }
 };
 
 // One ray of a smooth surface in a pass direction (receive_step.cpp collects them).
@@ -117,12 +119,12 @@ struct SurfacePlan {
 void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
                        int surface, const Vec3& incoming, const std::vector<SurfaceRay>& rays,
                        SurfacePlan& plan);
-// Appends the targets of `plan` (kept in slot `slot`, or ~0u) for the power `rays` bring now
-// (the rays it was made from), in the PSF of out.frames.back(); adds to `lost` the power no
-// PSF can carry. Every target of the plan is appended, lit or not, so a pass's sources have
-// the same shape every cycle.
-void apply_surface_plan(const SurfacePlan& plan, uint32_t slot, const std::vector<SurfaceRay>& rays,
-                        Rgb& lost, SurfaceSources& out);
+// Appends the targets of `plan` for the power `rays` bring now (the rays it was made from),
+// in the PSF of out.frame, and the rays' power to out.power; adds to `lost` the power no PSF
+// can carry. Every target of the plan is appended, lit or not, so a pass's sources have the
+// same shape every cycle.
+void apply_surface_plan(const SurfacePlan& plan, const std::vector<SurfaceRay>& rays, Rgb& lost,
+                        SurfaceSources& out);
 
 // Where the power of the smooth surfaces' rays arrives once the plans are kept (the true
 // directions' pass of a single rank, from its second cycle on): per plan slot, its rays'
@@ -140,7 +142,7 @@ bool index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arri
 // can carry.
 void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost);
 
-SurfaceFrame surface_frame(const Mat3& rotation, int N);
+SurfaceFrame surface_frame(const Mat3& rotation, int N, int direction);
 
 // A target ray's share of a sending pixel's value in the backward mapping.
 struct GatherEntry {
@@ -150,7 +152,8 @@ struct GatherEntry {
 };
 // A sending pixel as the gather sees it.
 struct GatherPixel {
-    uint32_t arrival;  // its power in SurfaceArrivals::power (kept plans)
+    uint32_t arrival;  // its power: in SurfaceArrivals::power (kept plans), else in its
+                       // source's SurfaceSources::power
     int32_t nearest;   // the target ray nearest its point, where no entry takes its value
     double part;
 };

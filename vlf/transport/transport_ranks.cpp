@@ -173,9 +173,10 @@ void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& comput
     pack_all(packed, mine.faces);
     packed.put(uint64_t(mine.surfaces.size()));
     for (const SurfaceSources& s : mine.surfaces) {
-        packed.put_array(s.frames);
+        packed.put(s.frame);
         packed.put_array(s.targets);
         packed.put_array(s.pixels);
+        packed.put_array(s.power);
     }
     mine = PassSources{};
     for (const std::string& part : m_ranks->all_gather(packed.bytes)) {
@@ -185,9 +186,10 @@ void Transport::run_chunks(const std::function<void(long, ChunkResult&)>& comput
         u.get(n);
         for (uint64_t k = 0; k < n; ++k) {
             SurfaceSources& theirs = sources.surfaces.emplace_back();
-            u.get_array(theirs.frames);
+            u.get(theirs.frame);
             u.get_array(theirs.targets);
             u.get_array(theirs.pixels);
+            u.get_array(theirs.power);
         }
         VLF_CHECK(u.done());
     }
