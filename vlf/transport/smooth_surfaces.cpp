@@ -37,12 +37,11 @@ void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, int surfac
         const Face& face = scene.faces[size_t(f)];
         if (glm::dot(face.normal, omega) <= 0.0) continue;
         rasterise_face(face, rotation, N, m, fr);
-        const PlaneInPsf plane(face, rotation, N);
         uint32_t k = 0;
         for (const FaceFragment& ff : fr.fragments)
             fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
                 const int i = ff.s * m + u, j = ff.t * m + v;
-                out.rays.push_back({f, k++, int16_t(i), int16_t(j), plane.point(i, j)});
+                out.rays.push_back({f, k++, int16_t(i), int16_t(j)});
                 imin = std::min(imin, i), imax = std::max(imax, i);
                 jmin = std::min(jmin, j), jmax = std::max(jmax, j);
             });

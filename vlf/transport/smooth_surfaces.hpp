@@ -17,6 +17,7 @@
 #include "vlf/core/math.hpp"
 #include "vlf/field/coverage.hpp"
 #include "vlf/field/direction_set.hpp"
+#include "vlf/field/psf.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
@@ -56,14 +57,20 @@ struct SurfaceRays {
     struct Ray {
         int face;      // its face
         uint32_t k;    // the face's ray k (radiance maps: maps.begin(d, face) + k)
-        int16_t i, j;  // pixel on the N x N grid
-        Vec3 point;    // on the face, scene frame
+        int16_t i, j;  // pixel on the N x N grid (its point: surface_ray_point)
     };
     std::vector<Ray> rays;                      // faces ascending, each in its rasterisation order
     int i0 = 0, j0 = 0, width = 0, height = 0;  // bounding box of the pixels
     std::vector<int32_t> head;                  // per box pixel: first ray there, or -1
     std::vector<int32_t> next;                  // per ray: next ray at the same pixel, or -1
 };
+
+// The scene-frame point where ray r (of rays made in PSF `rotation` on the N x N grid) meets
+// its face: recomputed when asked for, not kept (24 bytes a ray).
+inline Vec3 surface_ray_point(const Scene& scene, const Mat3& rotation, int N,
+                              const SurfaceRays::Ray& r) {
+    return PlaneInPsf(scene.faces[size_t(r.face)], rotation, N).point(r.i, r.j);
+}
 
 // The rays of `surface` in PSF `rotation` whose faces show their front along `omega` (the
 // travel direction), on the N x N grid.

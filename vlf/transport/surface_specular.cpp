@@ -181,15 +181,13 @@ void apply_surface_plan(const SurfacePlan& plan, const std::vector<SurfaceRay>& 
     for (const SurfaceRay& r : rays) out.power.push_back(r.power);
     for (const SurfacePlan::Target& pt : plan.targets) {
         const uint32_t group = uint32_t(pt.surface) * 2u + (pt.sense > 0 ? 1u : 0u);
-        SurfaceTarget t{group, pt.direction, uint32_t(out.pixels.size()), 0};
+        out.targets.push_back({group, pt.direction, uint32_t(out.pixels.size())});
         for (uint32_t k = pt.begin; k < pt.end; ++k) {
             const SurfacePlan::Pixel& p = plan.pixels[k];
             const SurfaceRay& r = rays[p.ray];
             out.pixels.push_back({int16_t(r.i), int16_t(r.j), r.face, float(r.depth), p.around,
                                   p.part, first + p.ray});
         }
-        t.end = uint32_t(out.pixels.size());
-        out.targets.push_back(t);
     }
 }
 
@@ -204,6 +202,17 @@ bool index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arri
     }
     arrivals.power.assign(arrivals.first.back(), Rgb(0.0));
     return true;
+}
+
+void power_to_arrivals(const SmoothSurfaces& surfaces, std::vector<SurfaceSources>& sources,
+                       SurfaceArrivals& arrivals) {
+    for (SurfaceSources& from : sources) {
+        const int d = from.frame.direction;
+        const uint64_t b = arrivals.first[surfaces.pass_slot(d, 0, 0)];
+        VLF_CHECK(from.power.size() == arrivals.first[surfaces.pass_slot(d + 1, 0, 0)] - b);
+        std::copy(from.power.begin(), from.power.end(), arrivals.power.begin() + int64_t(b));
+        std::vector<Rgb>().swap(from.power);
+    }
 }
 
 void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost) {
@@ -287,7 +296,8 @@ Vec3 corner_point(const SurfaceFrame& t, const Face& f, const Vec3& n, int i, in
 
 // The ray of `rays` nearest to scene point x: rings of pixels around x's pixel on the target
 // grid, out to one ring past the first that holds a ray, else all of them.
-size_t nearest_ray(const SurfaceRays& rays, const Mat3& rot, int N, const Vec3& x) {
+size_t nearest_ray(const Scene& scene, const SurfaceRays& rays, const Mat3& rot, int N,
+                   const Vec3& x) {
     const Vec3 q = rot * x;
     const int ci = int(std::floor((q.x + 1.0) * 0.5 * N)) - rays.i0;
     const int cj = int(std::floor((q.y + 1.0) * 0.5 * N)) - rays.j0;
@@ -297,7 +307,7 @@ size_t nearest_ray(const SurfaceRays& rays, const Mat3& rot, int N, const Vec3& 
         if (a < 0 || b < 0 || a >= rays.width || b >= rays.height) return;
         for (int32_t r = rays.head[size_t(b) * size_t(rays.width) + size_t(a)]; r >= 0;
              r = rays.next[size_t(r)]) {
-            const Vec3 e = rays.rays[size_t(r)].point - x;
+            const Vec3 e = surface_ray_point(scene, rot, N, rays.rays[size_t(r)]) - x;
             const double d2 = glm::dot(e, e);
             if (d2 < dist) dist = d2, best = size_t(r);
         }
@@ -353,7 +363,8 @@ void plan_gather(const Scene& scene, const SurfaceFrame& src, uint32_t n, const 
             for (int32_t r =
                      rays.head[size_t(j - rays.j0) * size_t(rays.width) + size_t(i - rays.i0)];
                  r >= 0; r = rays.next[size_t(r)]) {
-                const Vec3 q = rotate(src.rotation, rays.rays[size_t(r)].point);
+                const Vec3 q =
+                    rotate(src.rotation, surface_ray_point(scene, rot, N, rays.rays[size_t(r)]));
                 const int si = int(std::floor((q.x + 1.0) * 0.5 * src.resolution));
                 const int sj = int(std::floor((q.y + 1.0) * 0.5 * src.resolution));
                 sample(px, n, si, sj, q.z, tol, r, out);
@@ -448,7 +459,7 @@ void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const 
             const Vec3 x = rotate_back(
                 src.rotation, Vec3(2.0 * (q.i + 0.5) / src.resolution - 1.0,
                                    2.0 * (q.j + 0.5) / src.resolution - 1.0, double(q.depth)));
-            nearest = int32_t(nearest_ray(rays, rot, N, x));
+            nearest = int32_t(nearest_ray(scene, rays, rot, N, x));
         }
         plan.pixels.push_back({uint32_t(first + q.ray), nearest, q.part});
     }
@@ -490,7 +501,7 @@ template <class Power, class Ahead>
 Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGatherPlan& plan,
              const std::vector<SurfaceRays*>& group_rays, int d, double beam, Power&& power,
              Ahead&& ahead, RadianceMaps& maps) {
-    constexpr uint32_t kAhead = 16;  // targets (most have one pixel)
+    constexpr uint32_t kAhead = 40;  // targets (most have one pixel)
     const uint32_t targets = uint32_t(plan.pixel_begin.size() - 1);
     Rgb rounding(0.0);
     std::vector<Rgb> acc;
@@ -542,13 +553,6 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
     const bool keep = arrivals != nullptr;
-    if (keep)  // the first cycle's power where the kept plans will read it from now on
-        for (const SurfaceSources& from : sources) {
-            const int d = from.frame.direction;
-            const uint64_t b = arrivals->first[surfaces.pass_slot(d, 0, 0)];
-            VLF_CHECK(from.power.size() == arrivals->first[surfaces.pass_slot(d + 1, 0, 0)] - b);
-            std::copy(from.power.begin(), from.power.end(), arrivals->power.begin() + int64_t(b));
-        }
     // The targets by direction and group (target surface and sense), each in source order: a
     // counting sort into one array.
     const size_t G = size_t(surfaces.size()) * 2;
@@ -563,11 +567,17 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     std::vector<Ref> refs(start.back());
     {
         std::vector<size_t> at(start.begin(), start.end() - 1);
-        for (size_t s = 0; s < sources.size(); ++s)
-            for (const SurfaceTarget& t : sources[s].targets)
-                if (maps.holds(t.direction))
-                    refs[at[size_t(t.direction) * G + t.group]++] = {
-                        sources[s].pixels.data() + t.begin, uint32_t(s), t.end - t.begin};
+        for (size_t s = 0; s < sources.size(); ++s) {
+            const std::vector<SurfaceTarget>& targets = sources[s].targets;
+            for (size_t k = 0; k < targets.size(); ++k) {
+                const SurfaceTarget& t = targets[k];
+                if (!maps.holds(t.direction)) continue;
+                const uint32_t end = k + 1 < targets.size() ? targets[k + 1].begin
+                                                            : uint32_t(sources[s].pixels.size());
+                refs[at[size_t(t.direction) * G + t.group]++] = {sources[s].pixels.data() + t.begin,
+                                                                 uint32_t(s), end - t.begin};
+            }
+        }
     }
     const double a = ray_area(N);
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));

@@ -59,7 +59,7 @@ struct SurfaceFrame {
 struct SurfaceTarget {
     uint32_t group;
     int32_t direction;
-    uint32_t begin, end;  // its pixels in SurfaceSources::pixels
+    uint32_t begin;  // its pixels in SurfaceSources::pixels, up to the next target's
     int surface() const { return int(group >> 1); }
     int sense() const { return (group & 1u) ? 1 : -1; }
 };
@@ -138,6 +138,10 @@ struct SurfaceArrivals {
 // `first` from the plans' ray counts; false (and nothing kept) where they are more than a
 // 32-bit index reaches.
 bool index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arrivals);
+// The first cycle's power, where the kept plans read it from then on: each source's power
+// moves into `arrivals` (indexed) and is released.
+void power_to_arrivals(const SmoothSurfaces& surfaces, std::vector<SurfaceSources>& sources,
+                       SurfaceArrivals& arrivals);
 // Adds to `lost` what of the power the plan's rays bring (`power`, in its rays' order) no PSF
 // can carry.
 void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost);
@@ -185,9 +189,10 @@ struct SurfaceRayCache {
 
 // Phase 2: gathers every target of `sources` (in order) into maps.unshot_next (only the
 // directions `maps` holds), adding to it. `rotations[d]` is the rotation of PSF d, `N`, `m` the
-// radiance-map grid. With `arrivals` (the true directions' pass of a single rank), each
-// direction's plan is kept in `cache` and reads the arrivals from then on
-// (gather_surface_arrivals), and arrivals->ready is set. Returns, per held direction, the
+// radiance-map grid. With `arrivals` (the true directions' pass of a single rank, the sources'
+// power already moved there by power_to_arrivals), the power is read from the arrivals, each
+// direction's plan is kept in `cache` and reads them from then on (gather_surface_arrivals),
+// and arrivals->ready is set. Returns, per held direction, the
 // power single precision rounded away (as gather_specular).
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,

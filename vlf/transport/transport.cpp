@@ -324,6 +324,7 @@ void Transport::run_pass(int pass, double share) {
                                              m_surface_rays, m_spec);
         } else {
             const bool keep = keep_arrivals && index_arrivals(m_surface_plans, m_arrivals);
+            if (keep) power_to_arrivals(m_surfaces, sources.surfaces, m_arrivals);
             smooth =
                 gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces,
                                        keep ? &m_arrivals : nullptr, m_surface_rays, m_spec);
