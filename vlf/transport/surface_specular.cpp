@@ -247,8 +247,8 @@ namespace {
 // A target of the first gather, with what its plan needs, so the gather reads the targets
 // in order and fetches only their pixels out of order.
 struct Ref {
-    const SurfacePixel* pixels;
     uint32_t source;  // in the pass's sources
+    uint32_t begin;   // its first pixel there
     uint32_t n;       // pixels
 };
 constexpr uint32_t kRefsAhead = 8;  // how far ahead a gather fetches its targets' pixels
@@ -574,8 +574,8 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
                 if (!maps.holds(t.direction)) continue;
                 const uint32_t end = k + 1 < targets.size() ? targets[k + 1].begin
                                                             : uint32_t(sources[s].pixels.size());
-                refs[at[size_t(t.direction) * G + t.group]++] = {sources[s].pixels.data() + t.begin,
-                                                                 uint32_t(s), end - t.begin};
+                refs[at[size_t(t.direction) * G + t.group]++] = {uint32_t(s), t.begin,
+                                                                 end - t.begin};
             }
         }
     }
@@ -585,6 +585,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     // direction; a kept plan is copied out at its exact size (growing each one in place
     // would copy it and fault in fresh pages at every doubling).
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
+    auto pixels = [&](const Ref& x) { return sources[x.source].pixels.data() + x.begin; };
     parallel_for(maps.first, maps.last, [&](long d) {
         const Ref* ref = refs.data() + start[size_t(d) * G];
         const size_t count = start[size_t(d + 1) * G] - start[size_t(d) * G];
@@ -605,11 +606,11 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             group_rays.push_back(
                 &rays_of(scene, dirs, surfaces, rot, N, m, surface, int(d), sense, cache));
             for (size_t r = r0; r < r1; ++r) {
-                if (r + kRefsAhead < count) __builtin_prefetch(ref[r + kRefsAhead].pixels);
+                if (r + kRefsAhead < count) __builtin_prefetch(pixels(ref[r + kRefsAhead]));
                 const SurfaceFrame& src = sources[ref[r].source].frame;
                 const uint64_t first =
                     keep ? arrivals->first[surfaces.pass_slot(src.direction, 0, 0)] : 0;
-                plan_target(scene, src, ref[r].n, ref[r].pixels, rot, N, *group_rays.back(), first,
+                plan_target(scene, src, ref[r].n, pixels(ref[r]), rot, N, *group_rays.back(), first,
                             plan);
             }
         }

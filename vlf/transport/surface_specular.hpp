@@ -34,9 +34,11 @@
 
 namespace vlf {
 
-// A sending pixel of a target. Half a cache line each (the gathers read them in no order);
-// the power its ray brings is kept once per ray (SurfaceSources::power), not per target.
-struct alignas(32) SurfacePixel {
+// A sending pixel of a target, 28 bytes (packed: the first cycle holds one per target a ray
+// sends to, tens of millions at l = 2049); the power its ray brings is kept once per ray
+// (SurfaceSources::power), not per target.
+#pragma pack(push, 4)
+struct SurfacePixel {
     int16_t i, j;     // on the source PSF's grid
     int32_t face;     // the face its ray met
     float depth;      // z of that point in the source PSF's frame
@@ -45,7 +47,8 @@ struct alignas(32) SurfacePixel {
     uint32_t ray;     // in SurfaceSources::power (and, from the direction's first plan slot
                       // on, in SurfaceArrivals::power)
 };
-static_assert(sizeof(SurfacePixel) == 32);
+#pragma pack(pop)
+static_assert(sizeof(SurfacePixel) == 28);
 
 // The source PSF of a pass direction.
 struct SurfaceFrame {
