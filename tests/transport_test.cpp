@@ -600,6 +600,34 @@ TEST(TransportDeterminism, StrippedSurfacePlanReleasesItsTargets) {
     EXPECT_EQ(plan.rays, 7u);
 }
 
+// The first cycle's power goes where the kept plans read it: each direction's rays, surface
+// by surface and side by side, from the direction's first plan slot on; the sources' copies
+// are released.
+TEST(TransportDeterminism, FirstCyclePowerMovesIntoTheArrivals) {
+    SmoothSurfaces surfaces;
+    surfaces.faces = {{0}, {1}};  // two surfaces, three directions: slots (d, surface, side)
+    surfaces.directions = 3;
+    std::vector<SurfacePlan> plans(12);
+    const uint32_t rays[12] = {1, 0, 2, 1, 0, 0, 0, 0, 3, 0, 1, 2};
+    for (size_t k = 0; k < plans.size(); ++k) plans[k].rays = rays[k];
+    SurfaceArrivals arrivals;
+    ASSERT_TRUE(index_arrivals(plans, arrivals));
+    ASSERT_EQ(arrivals.power.size(), 10u);
+    std::vector<SurfaceSources> sources(2);
+    sources[0].frame.direction = 2;  // (any order: each finds its own place)
+    sources[1].frame.direction = 0;
+    for (int k = 0; k < 6; ++k) sources[0].power.push_back(Rgb(10.0 + k));
+    for (int k = 0; k < 4; ++k) sources[1].power.push_back(Rgb(20.0 + k));
+    power_to_arrivals(surfaces, sources, arrivals);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(arrivals.power[size_t(k)], Rgb(20.0 + k));
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(arrivals.power[size_t(4 + k)], Rgb(10.0 + k));
+    EXPECT_EQ(sources[0].power.capacity(), 0u);
+    EXPECT_EQ(sources[1].power.capacity(), 0u);
+    sources[0].power.assign(6, Rgb(1.0));
+    sources[1].power.assign(3, Rgb(1.0));  // not the rays of its direction's plans
+    EXPECT_DEATH(power_to_arrivals(surfaces, sources, arrivals), "check .* failed");
+}
+
 // In the last cycle that perturbs, a perturbed pass clips only the rays that carry power
 // (the senders' and their partners'); the maps are those of a fully clipped pass, and the
 // perturbed geometry is released after that cycle.
