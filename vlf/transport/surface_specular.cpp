@@ -587,8 +587,9 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
     auto pixels = [&](const Ref& x) { return sources[x.source].pixels.data() + x.begin; };
     parallel_for(maps.first, maps.last, [&](long d) {
-        const Ref* ref = refs.data() + start[size_t(d) * G];
-        const size_t count = start[size_t(d + 1) * G] - start[size_t(d) * G];
+        const size_t* group_start = start.data() + size_t(d) * G;  // G + 1 of them
+        const Ref* ref = refs.data() + group_start[0];
+        const size_t count = group_start[G] - group_start[0];
         if (keep) cache.gathers[size_t(d)].clear();
         SurfaceGatherPlan& plan = scratch.local();
         plan.clear();
@@ -598,8 +599,8 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         // a few targets ahead of its turn.
         std::vector<SurfaceRays*> group_rays;
         for (size_t g = 0; g < G; ++g) {
-            const size_t r0 = start[size_t(d) * G + g] - start[size_t(d) * G];
-            const size_t r1 = start[size_t(d) * G + g + 1] - start[size_t(d) * G];
+            const size_t r0 = group_start[g] - group_start[0];
+            const size_t r1 = group_start[g + 1] - group_start[0];
             if (r0 == r1) continue;
             const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
             plan.groups.push_back({surface, sense, uint32_t(r1)});

@@ -7,9 +7,10 @@
 // it is reflected and 1 - R refracted into the twin surface. Each turned direction's power
 // goes to the three PSF directions enclosing it, by barycentric weight (VLF §4.2), on the
 // surface that carries it (the reflecting one, or the twin). Per target (surface,
-// direction, sense) the source holds the pixels that send to it: each with the power its
-// ray brings and the part of it that goes there, the depth of its point along d, its face,
-// and which pixels around it the surface covers. That turn is geometry: it is made once per
+// direction, sense) the source holds the pixels that send to it: each with its ray (whose
+// power the source keeps once, however many targets the ray sends to) and the part of that
+// power that goes there, the depth of its point along d, its face, and which pixels around
+// it the surface covers. That turn is geometry: it is made once per
 // direction as a plan (SurfacePlan) and applied to the power the rays bring each cycle.
 //
 // The gather (phase 2, one task per target direction) is the backward mapping of VLF §4.3:
@@ -19,7 +20,8 @@
 // pattern is scaled so the target receives exactly its power, channel by channel (DESIGN
 // §5). Targets are taken in source order, so the maps do not depend on the thread or rank
 // count. The mapping is geometry too: kept per direction (SurfaceGatherPlan), it reads the
-// rays' power from SurfaceArrivals from the second cycle on, with the same arithmetic.
+// rays' power from SurfaceArrivals (on a single rank from the first gather on: the first
+// cycle's power is moved there), with the same arithmetic.
 #pragma once
 
 #include <array>

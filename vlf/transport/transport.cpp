@@ -328,9 +328,6 @@ void Transport::run_pass(int pass, double share) {
             smooth =
                 gather_surface_sources(m_scene, m_dirs, m_rot, Nc, mc, m_surfaces, sources.surfaces,
                                        keep ? &m_arrivals : nullptr, m_surface_rays, m_spec);
-            // The gathers read arrivals through their own plans from now on.
-            if (m_arrivals.ready)
-                for (SurfacePlan& p : m_surface_plans) p.strip();
         }
         for (size_t d = 0; d < rounding.size(); ++d) rounding[d] += smooth[d];
         Rgb sum(0.0);
