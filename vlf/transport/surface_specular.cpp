@@ -244,14 +244,111 @@ int64_t SurfaceRayCache::plan_bytes() const {
 
 namespace {
 
-// A target of the first gather, with what its plan needs, so the gather reads the targets
-// in order and fetches only their pixels out of order.
+// A target of the first gather: its source and how many pixels it has (they follow the
+// previous target's in its Segment).
 struct Ref {
     uint32_t source;  // in the pass's sources
-    uint32_t begin;   // its first pixel there
     uint32_t n;       // pixels
 };
-constexpr uint32_t kRefsAhead = 8;  // how far ahead a gather fetches its targets' pixels
+
+// The targets a block of sources sends to one direction: per group (target surface and
+// sense) in source order, with their pixels in the same order.
+struct Segment {
+    std::vector<uint32_t> ref_begin, pixel_begin;  // per group, and one past the end
+    std::vector<Ref> refs;
+    std::vector<SurfacePixel> pixels;
+};
+
+// The first gather's input laid out by target direction, block of sources by block: per
+// held direction its segments, in block order. The layout is made a block at a time and
+// each block's sources are released as soon as it is made, and a direction's segments are
+// released as soon as its gather is done: the allocator gives the memory freed at each
+// step to the next (sources to segments, segments to the gathers' kept plans), so the
+// three are never all resident and few fresh pages are touched.
+struct ByTarget {
+    size_t groups = 0;                           // G
+    std::vector<std::vector<Segment>> segments;  // per direction, per block that sends to it
+};
+constexpr size_t kBlock = 64;  // sources per block
+
+// Moves the targets of the held directions out of `sources` (in source order) into the
+// layout by target direction, releasing each block's targets and pixels (their frames and
+// power stay).
+ByTarget by_target(const SmoothSurfaces& surfaces, int directions, const RadianceMaps& maps,
+                   std::vector<SurfaceSources>& sources) {
+    ByTarget out;
+    const size_t G = size_t(surfaces.size()) * 2;
+    out.groups = G;
+    out.segments.resize(size_t(directions));
+    auto end_of = [](const SurfaceSources& s, size_t k) {
+        return k + 1 < s.targets.size() ? s.targets[k + 1].begin : uint32_t(s.pixels.size());
+    };
+    std::vector<uint32_t> refs(size_t(directions) * G), pixels(size_t(directions) * G);
+    for (size_t b0 = 0; b0 < sources.size(); b0 += kBlock) {
+        const size_t b1 = std::min(sources.size(), b0 + kBlock);
+        std::fill(refs.begin(), refs.end(), 0u);
+        std::fill(pixels.begin(), pixels.end(), 0u);
+        for (size_t s = b0; s < b1; ++s)
+            for (size_t k = 0; k < sources[s].targets.size(); ++k) {
+                const SurfaceTarget& t = sources[s].targets[k];
+                if (!maps.holds(t.direction)) continue;
+                VLF_CHECK(t.group < G);
+                const size_t slot = size_t(t.direction) * G + t.group;
+                ++refs[slot];
+                pixels[slot] += end_of(sources[s], k) - t.begin;
+            }
+        // Two halves of the directions at once, so both threads allocate segments where the
+        // passes' threads allocated the sources (with glibc, each thread in an arena of its
+        // own) and the memory the block frees is reused on both.
+        parallel_for(0, 2, [&](long half) {
+            const int d0 = int(half * directions / 2), d1 = int((half + 1) * directions / 2);
+            std::vector<Segment*> seg(size_t(d1 - d0), nullptr);
+            for (int d = d0; d < d1; ++d) {
+                const size_t at = size_t(d) * G;
+                uint32_t nr = 0, np = 0;
+                for (size_t g = 0; g < G; ++g) nr += refs[at + g], np += pixels[at + g];
+                if (nr == 0) continue;
+                Segment& sg = out.segments[size_t(d)].emplace_back();
+                sg.ref_begin.resize(G + 1);
+                sg.pixel_begin.resize(G + 1);
+                for (size_t g = 0; g < G; ++g) {
+                    sg.ref_begin[g + 1] = sg.ref_begin[g] + refs[at + g];
+                    sg.pixel_begin[g + 1] = sg.pixel_begin[g] + pixels[at + g];
+                }
+                sg.refs.resize(nr);
+                sg.pixels.resize(np);
+                seg[size_t(d - d0)] = &sg;
+            }
+            // Each group's starts serve as its cursors while the segment fills, then move back.
+            for (size_t s = b0; s < b1; ++s) {
+                const SurfaceSources& from = sources[s];
+                for (size_t k = 0; k < from.targets.size(); ++k) {
+                    const SurfaceTarget& t = from.targets[k];
+                    if (t.direction < d0 || t.direction >= d1 || !maps.holds(t.direction)) continue;
+                    Segment& sg = *seg[size_t(t.direction - d0)];
+                    const uint32_t n = end_of(from, k) - t.begin;
+                    sg.refs[sg.ref_begin[t.group]++] = {uint32_t(s), n};
+                    std::copy_n(from.pixels.data() + t.begin, n,
+                                sg.pixels.data() + sg.pixel_begin[t.group]);
+                    sg.pixel_begin[t.group] += n;
+                }
+            }
+            for (Segment* sg : seg) {
+                if (sg == nullptr) continue;
+                for (size_t g = G; g > 0; --g) {
+                    sg->ref_begin[g] = sg->ref_begin[g - 1];
+                    sg->pixel_begin[g] = sg->pixel_begin[g - 1];
+                }
+                sg->ref_begin[0] = sg->pixel_begin[0] = 0;
+            }
+        });
+        for (size_t s = b0; s < b1; ++s) {
+            std::vector<SurfaceTarget>().swap(sources[s].targets);
+            std::vector<SurfacePixel>().swap(sources[s].pixels);
+        }
+    }
+    return out;
+}
 
 // Whether the surface covers source pixel (i, j), known from a sending pixel p within one
 // pixel of it (its 5 x 5 neighbourhood holds (i, j)'s 3 x 3).
@@ -543,7 +640,7 @@ void SurfaceGatherPlan::clear() {
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
-                                        const std::vector<SurfaceSources>& sources,
+                                        std::vector<SurfaceSources>& sources,
                                         SurfaceArrivals* arrivals, SurfaceRayCache& cache,
                                         RadianceMaps& maps) {
     const size_t slots = size_t(surfaces.size()) * size_t(dirs.size()) * 2;
@@ -553,74 +650,53 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
     const bool keep = arrivals != nullptr;
-    // The targets by direction and group (target surface and sense), each in source order: a
-    // counting sort into one array.
-    const size_t G = size_t(surfaces.size()) * 2;
-    std::vector<size_t> start(size_t(dirs.size()) * G + 1, 0);  // per (direction, group)
-    for (const SurfaceSources& from : sources)
-        for (const SurfaceTarget& t : from.targets)
-            if (maps.holds(t.direction)) {
-                VLF_CHECK(t.group < G);
-                ++start[size_t(t.direction) * G + t.group + 1];
-            }
-    for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-    std::vector<Ref> refs(start.back());
-    {
-        std::vector<size_t> at(start.begin(), start.end() - 1);
-        for (size_t s = 0; s < sources.size(); ++s) {
-            const std::vector<SurfaceTarget>& targets = sources[s].targets;
-            for (size_t k = 0; k < targets.size(); ++k) {
-                const SurfaceTarget& t = targets[k];
-                if (!maps.holds(t.direction)) continue;
-                const uint32_t end = k + 1 < targets.size() ? targets[k + 1].begin
-                                                            : uint32_t(sources[s].pixels.size());
-                refs[at[size_t(t.direction) * G + t.group]++] = {uint32_t(s), t.begin,
-                                                                 end - t.begin};
-            }
-        }
-    }
+    ByTarget in = by_target(surfaces, dirs.size(), maps, sources);
+    const size_t G = in.groups;
     const double a = ray_area(N);
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
     // Each thread builds its plans in a scratch plan that keeps its memory from direction to
     // direction; a kept plan is copied out at its exact size (growing each one in place
     // would copy it and fault in fresh pages at every doubling).
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
-    auto pixels = [&](const Ref& x) { return sources[x.source].pixels.data() + x.begin; };
     parallel_for(maps.first, maps.last, [&](long d) {
-        const size_t* group_start = start.data() + size_t(d) * G;  // G + 1 of them
-        const Ref* ref = refs.data() + group_start[0];
-        const size_t count = group_start[G] - group_start[0];
+        std::vector<Segment>& segments = in.segments[size_t(d)];
         if (keep) cache.gathers[size_t(d)].clear();
         SurfaceGatherPlan& plan = scratch.local();
         plan.clear();
-        if (count == 0) return;
+        if (segments.empty()) return;
         const Mat3& rot = rotations[size_t(d)];
-        // The targets' pixels lie anywhere in the sources' arrays: each target's are fetched
-        // a few targets ahead of its turn.
         std::vector<SurfaceRays*> group_rays;
+        std::vector<uint32_t> source;  // per target: its source
         for (size_t g = 0; g < G; ++g) {
-            const size_t r0 = group_start[g] - group_start[0];
-            const size_t r1 = group_start[g + 1] - group_start[0];
-            if (r0 == r1) continue;
-            const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
-            plan.groups.push_back({surface, sense, uint32_t(r1)});
-            group_rays.push_back(
-                &rays_of(scene, dirs, surfaces, rot, N, m, surface, int(d), sense, cache));
-            for (size_t r = r0; r < r1; ++r) {
-                if (r + kRefsAhead < count) __builtin_prefetch(pixels(ref[r + kRefsAhead]));
-                const SurfaceFrame& src = sources[ref[r].source].frame;
-                const uint64_t first =
-                    keep ? arrivals->first[surfaces.pass_slot(src.direction, 0, 0)] : 0;
-                plan_target(scene, src, ref[r].n, pixels(ref[r]), rot, N, *group_rays.back(), first,
-                            plan);
+            const size_t r0 = source.size();
+            for (const Segment& sg : segments) {
+                const SurfacePixel* px = sg.pixels.data() + sg.pixel_begin[g];
+                for (uint32_t r = sg.ref_begin[g]; r < sg.ref_begin[g + 1]; ++r) {
+                    const Ref& ref = sg.refs[r];
+                    if (source.size() == r0) {  // the group's first target
+                        const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
+                        group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, surface,
+                                                      int(d), sense, cache));
+                        plan.groups.push_back({surface, sense, 0});
+                    }
+                    const SurfaceFrame& src = sources[ref.source].frame;
+                    const uint64_t first =
+                        keep ? arrivals->first[surfaces.pass_slot(src.direction, 0, 0)] : 0;
+                    plan_target(scene, src, ref.n, px, rot, N, *group_rays.back(), first, plan);
+                    px += ref.n;
+                    source.push_back(ref.source);
+                }
             }
+            if (source.size() > r0) plan.groups.back().end = uint32_t(source.size());
         }
+        // This direction's share of the layout is not read again.
+        std::vector<Segment>().swap(segments);
         plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
         plan.entry_begin.push_back(uint32_t(plan.entries.size()));
         // The power of a target's pixel: in the arrivals (kept plans), else in its source's.
         auto at = [&](uint32_t t, uint32_t e) -> const Rgb* {
             const uint32_t k = plan.pixels[plan.pixel_begin[t] + e].arrival;
-            return keep ? &arrivals->power[k] : &sources[ref[t].source].power[k];
+            return keep ? &arrivals->power[k] : &sources[source[t]].power[k];
         };
         rounding[size_t(d - maps.first)] = run_plan(
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),

@@ -197,12 +197,14 @@ struct SurfaceRayCache {
 // radiance-map grid. With `arrivals` (the true directions' pass of a single rank, the sources'
 // power already moved there by power_to_arrivals), the power is read from the arrivals, each
 // direction's plan is kept in `cache` and reads them from then on (gather_surface_arrivals),
-// and arrivals->ready is set. Returns, per held direction, the
-// power single precision rounded away (as gather_specular).
+// and arrivals->ready is set. The sources' targets and pixels are consumed: they are laid out
+// by target direction first (each source's released as it is moved) and each direction's
+// share is released once its gather is done; their frames and power stay. Returns, per held
+// direction, the power single precision rounded away (as gather_specular).
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
-                                        const std::vector<SurfaceSources>& sources,
+                                        std::vector<SurfaceSources>& sources,
                                         SurfaceArrivals* arrivals, SurfaceRayCache& cache,
                                         RadianceMaps& maps);
 // The same gathers by the kept plans, from arrivals.power: the same maps, bit for bit.
