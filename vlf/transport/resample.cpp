@@ -57,6 +57,7 @@ struct PathTracer {
     // `inside`: the segment runs through glass of material `medium`.
     Rgb look(int from, const Vec3& p, const Vec3& w, const Material* medium, double weight,
              int bounce) const {
+        if (weight < kResampleMinWeight) return Rgb(0.0);  // not followed: nothing traced
         RayHit hit;
         if (!trace_from(caster, from, p, w, hit)) return Rgb(0.0);              // escaped
         if (glm::dot(scene.faces[hit.face].normal, w) >= 0.0) return Rgb(0.0);  // back face
@@ -74,8 +75,7 @@ struct PathTracer {
         // holds its emission.
         if (mat.is_diffuse() || mat.is_emitter())
             value += sample_lightmap(scene.chart_of(f), radiance.data() + offset[f.chart], p);
-        if (!mat.is_specular() || bounce >= max_bounces || weight < kResampleMinWeight)
-            return value;
+        if (!mat.is_specular() || bounce >= max_bounces) return value;
         if (glm::dot(t, f.normal) <= 0.0) return value;  // a mirror reflects on its front only
         // The reversed ray meets the front along -t and turns as any ray there does, about
         // the shading normal of a smooth surface (specular_turn.hpp).

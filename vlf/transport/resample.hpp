@@ -19,8 +19,9 @@ namespace vlf {
 // Specular bounces followed at most (the 8th surface reached still adds its own diffuse
 // part, nothing beyond it).
 inline constexpr int kResampleMaxBounces = 8;
-// A branch of the specular path tree (glass splits it in two) is followed while its weight
-// (the product of the reflectances and transmittances on the way) is at least this.
+// A branch of the specular path tree (glass splits it in two) is traced only while its
+// weight (the product of the reflectances and transmittances on the way) is at least this;
+// a lighter branch adds nothing (at most this fraction of the radiance).
 inline constexpr double kResampleMinWeight = 1e-4;
 // Ray origins are moved this far (normalised units) along the traced direction.
 inline constexpr double kResampleEpsilon = 1e-6;
