@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <tuple>
+#include <utility>
 
 #include "vlf/core/error.hpp"
 #include "vlf/core/parallel.hpp"
@@ -62,6 +62,33 @@ Rgb power_factor(const Scene& scene, int face) {
     return mat.dielectric ? Rgb(1.0) : mat.specular;
 }
 
+// Orders entries by (direction, surface, sense, ray), as a stable sort by that would: they are
+// made in ray order, so a stable counting sort by (direction, surface, sense) is enough.
+void sort_entries(const SmoothSurfaces& surfaces, std::vector<Entry>& entries) {
+    auto key = [&](const Entry& e) {
+        return (size_t(e.direction) * size_t(surfaces.size()) + size_t(e.surface)) * 2 +
+               (e.sense > 0 ? 1 : 0);
+    };
+    thread_local std::vector<uint32_t> count;  // per key; zero between calls
+    thread_local std::vector<size_t> used;     // the keys met
+    thread_local std::vector<Entry> sorted;
+    count.resize(size_t(surfaces.directions) * size_t(surfaces.size()) * 2, 0u);
+    used.clear();
+    uint32_t last = 0;
+    for (const Entry& e : entries) {
+        VLF_CHECK(e.ray >= last);  // made in ray order
+        last = e.ray;
+        if (count[key(e)]++ == 0) used.push_back(key(e));
+    }
+    std::sort(used.begin(), used.end());
+    uint32_t at = 0;
+    for (size_t k : used) at += std::exchange(count[k], at);  // counts -> first places
+    sorted.resize(entries.size());
+    for (const Entry& e : entries) sorted[count[key(e)]++] = e;
+    for (size_t k : used) count[k] = 0;
+    entries.swap(sorted);
+}
+
 // One layer of a surface's rays (indices into `rays`): at most one ray per pixel (a torus
 // seen edge-on has two sheets facing the same way; each makes its own targets).
 void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
@@ -107,10 +134,7 @@ void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
         if (t.refracts) branch(surfaces.of_face[size_t(face.twin)], t.refracted, 1.0 - t.R, k);
         branch(surface, t.reflected, t.R, k);
     }
-    std::stable_sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-        return std::tie(a.direction, a.surface, a.sense, a.ray) <
-               std::tie(b.direction, b.surface, b.sense, b.ray);
-    });
+    sort_entries(surfaces, entries);
     std::vector<SurfacePlan::Pixel>& pixels = plan.pixels;
     constexpr uint32_t kUnknown = ~0u;  // (a 5 x 5 mask has 25 bits)
     std::vector<uint32_t> arounds(rays.size(), kUnknown);
