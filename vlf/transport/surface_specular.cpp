@@ -290,7 +290,6 @@ struct Segment {
 // step to the next (sources to segments, segments to the gathers' kept plans), so the
 // three are never all resident and few fresh pages are touched.
 struct ByTarget {
-    size_t groups = 0;                           // G
     std::vector<std::vector<Segment>> segments;  // per direction, per block that sends to it
 };
 constexpr size_t kBlock = 64;  // sources per block
@@ -301,8 +300,7 @@ constexpr size_t kBlock = 64;  // sources per block
 ByTarget by_target(const SmoothSurfaces& surfaces, int directions, const RadianceMaps& maps,
                    std::vector<SurfaceSources>& sources) {
     ByTarget out;
-    const size_t G = size_t(surfaces.size()) * 2;
-    out.groups = G;
+    const size_t G = size_t(surfaces.size()) * 2;  // groups: (target surface, sense)
     out.segments.resize(size_t(directions));
     auto end_of = [](const SurfaceSources& s, size_t k) {
         return k + 1 < s.targets.size() ? s.targets[k + 1].begin : uint32_t(s.pixels.size());
@@ -327,43 +325,39 @@ ByTarget by_target(const SmoothSurfaces& surfaces, int directions, const Radianc
         parallel_for(0, 2, [&](long half) {
             const int d0 = int(half * directions / 2), d1 = int((half + 1) * directions / 2);
             std::vector<Segment*> seg(size_t(d1 - d0), nullptr);
+            // Where each (direction, group)'s next ref and pixel go in its segment.
+            std::vector<uint32_t> ref_at(size_t(d1 - d0) * G), pixel_at(size_t(d1 - d0) * G);
             for (int d = d0; d < d1; ++d) {
-                const size_t at = size_t(d) * G;
+                const size_t at = size_t(d) * G, local = size_t(d - d0) * G;
                 uint32_t nr = 0, np = 0;
-                for (size_t g = 0; g < G; ++g) nr += refs[at + g], np += pixels[at + g];
+                for (size_t g = 0; g < G; ++g) {
+                    ref_at[local + g] = nr, pixel_at[local + g] = np;
+                    nr += refs[at + g], np += pixels[at + g];
+                }
                 if (nr == 0) continue;
                 Segment& sg = out.segments[size_t(d)].emplace_back();
-                sg.ref_begin.resize(G + 1);
-                sg.pixel_begin.resize(G + 1);
-                for (size_t g = 0; g < G; ++g) {
-                    sg.ref_begin[g + 1] = sg.ref_begin[g] + refs[at + g];
-                    sg.pixel_begin[g + 1] = sg.pixel_begin[g] + pixels[at + g];
-                }
+                sg.ref_begin.assign(ref_at.begin() + int64_t(local),
+                                    ref_at.begin() + int64_t(local + G));
+                sg.ref_begin.push_back(nr);
+                sg.pixel_begin.assign(pixel_at.begin() + int64_t(local),
+                                      pixel_at.begin() + int64_t(local + G));
+                sg.pixel_begin.push_back(np);
                 sg.refs.resize(nr);
                 sg.pixels.resize(np);
                 seg[size_t(d - d0)] = &sg;
             }
-            // Each group's starts serve as its cursors while the segment fills, then move back.
             for (size_t s = b0; s < b1; ++s) {
                 const SurfaceSources& from = sources[s];
                 for (size_t k = 0; k < from.targets.size(); ++k) {
                     const SurfaceTarget& t = from.targets[k];
                     if (t.direction < d0 || t.direction >= d1 || !maps.holds(t.direction)) continue;
+                    const size_t slot = size_t(t.direction - d0) * G + t.group;
                     Segment& sg = *seg[size_t(t.direction - d0)];
                     const uint32_t n = end_of(from, k) - t.begin;
-                    sg.refs[sg.ref_begin[t.group]++] = {uint32_t(s), n};
-                    std::copy_n(from.pixels.data() + t.begin, n,
-                                sg.pixels.data() + sg.pixel_begin[t.group]);
-                    sg.pixel_begin[t.group] += n;
+                    sg.refs[ref_at[slot]++] = {uint32_t(s), n};
+                    std::copy_n(from.pixels.data() + t.begin, n, sg.pixels.data() + pixel_at[slot]);
+                    pixel_at[slot] += n;
                 }
-            }
-            for (Segment* sg : seg) {
-                if (sg == nullptr) continue;
-                for (size_t g = G; g > 0; --g) {
-                    sg->ref_begin[g] = sg->ref_begin[g - 1];
-                    sg->pixel_begin[g] = sg->pixel_begin[g - 1];
-                }
-                sg->ref_begin[0] = sg->pixel_begin[0] = 0;
             }
         });
         for (size_t s = b0; s < b1; ++s) {
@@ -675,7 +669,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     }
     const bool keep = arrivals != nullptr;
     ByTarget in = by_target(surfaces, dirs.size(), maps, sources);
-    const size_t G = in.groups;
+    const size_t G = size_t(surfaces.size()) * 2;
     const double a = ray_area(N);
     std::vector<Rgb> rounding(size_t(maps.last - maps.first), Rgb(0.0));
     // Each thread builds its plans in a scratch plan that keeps its memory from direction to
@@ -692,26 +686,25 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         std::vector<SurfaceRays*> group_rays;
         std::vector<uint32_t> source;  // per target: its source
         for (size_t g = 0; g < G; ++g) {
-            const size_t r0 = source.size();
+            uint32_t n = 0;  // the group's targets
+            for (const Segment& sg : segments) n += sg.ref_begin[g + 1] - sg.ref_begin[g];
+            if (n == 0) continue;
+            const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
+            const SurfaceRays& rays = *group_rays.emplace_back(
+                &rays_of(scene, dirs, surfaces, rot, N, m, surface, int(d), sense, cache));
+            plan.groups.push_back({surface, sense, uint32_t(source.size() + n)});
             for (const Segment& sg : segments) {
                 const SurfacePixel* px = sg.pixels.data() + sg.pixel_begin[g];
                 for (uint32_t r = sg.ref_begin[g]; r < sg.ref_begin[g + 1]; ++r) {
                     const Ref& ref = sg.refs[r];
-                    if (source.size() == r0) {  // the group's first target
-                        const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
-                        group_rays.push_back(&rays_of(scene, dirs, surfaces, rot, N, m, surface,
-                                                      int(d), sense, cache));
-                        plan.groups.push_back({surface, sense, 0});
-                    }
                     const SurfaceFrame& src = sources[ref.source].frame;
                     const uint64_t first =
                         keep ? arrivals->first[surfaces.pass_slot(src.direction, 0, 0)] : 0;
-                    plan_target(scene, src, ref.n, px, rot, N, *group_rays.back(), first, plan);
+                    plan_target(scene, src, ref.n, px, rot, N, rays, first, plan);
                     px += ref.n;
                     source.push_back(ref.source);
                 }
             }
-            if (source.size() > r0) plan.groups.back().end = uint32_t(source.size());
         }
         // This direction's share of the layout is not read again.
         std::vector<Segment>().swap(segments);
