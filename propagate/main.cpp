@@ -215,6 +215,7 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    vlf::restart_with_huge_pages(argv);
     Options o;
     CLI::App app{
         "propagate: build the virtual light field of a scene and propagate light through it "

@@ -16,6 +16,7 @@
 #include "vlf/core/cli_main.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/core/files.hpp"
+#include "vlf/core/memory.hpp"
 #include "vlf/core/parallel.hpp"
 #include "vlf/core/progress.hpp"
 #include "vlf/core/stopwatch.hpp"
@@ -252,6 +253,7 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    vlf::restart_with_huge_pages(argv);
     Options o;
     CLI::App app{
         "walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"

@@ -4,6 +4,9 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
 
 namespace vlf {
 
@@ -20,6 +23,17 @@ int64_t current_rss_bytes() {
     const int n = std::fscanf(f, "%ld %ld", &size, &resident);
     std::fclose(f);
     return n == 2 ? static_cast<int64_t>(resident) * sysconf(_SC_PAGESIZE) : 0;
+}
+
+void restart_with_huge_pages(char** argv) {
+    constexpr const char* kTunable = "glibc.malloc.hugetlb";
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    if (tunables != nullptr && std::strstr(tunables, kTunable) != nullptr) return;
+    std::string value = tunables != nullptr && *tunables != '\0' ? std::string(tunables) + ":" : "";
+    value += std::string(kTunable) + "=1";
+    if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+    execv("/proc/self/exe", argv);
+    // (Not restarted: the program goes on with the heap it has.)
 }
 
 }  // namespace vlf
