@@ -181,6 +181,8 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     report["memory_bytes"]["peak_rss_propagation"] = report["memory_bytes"]["peak_rss"];
     report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write
     report["memory_bytes"]["startup_rss"] = startup_rss;
+    report["memory_bytes"]["heap_on_huge_pages"] = vlf::heap_on_huge_pages();
+    report["memory_bytes"]["huge_pages"] = vlf::huge_page_bytes();  // resident at the end
     if (!o.report.empty()) {
         // After the bake (its time and memory are not the bake's): one entry per face.
         if (!o.no_surfaces)

@@ -123,6 +123,23 @@ endforeach()
 foreach(key rasterise clipping exchange transfer)
   string(JSON v GET "${report}" timings_s cpu_in_passes ${key})
 endforeach()
+# The heap is on huge pages by default (propagate restarts itself with glibc's tunable,
+# docs/propagation.md §10), and a user who names the tunable is left alone.
+string(JSON huge GET "${report}" memory_bytes heap_on_huge_pages)
+string(JSON huge_bytes GET "${report}" memory_bytes huge_pages)
+if(DEFINED ENV{GLIBC_TUNABLES})
+  message(STATUS "GLIBC_TUNABLES is set ($ENV{GLIBC_TUNABLES}): the default is not checked")
+elseif(NOT huge)
+  message(FATAL_ERROR "the heap is not on huge pages by default")
+endif()
+expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=glibc.malloc.hugetlb=0 ${PROPAGATE}
+            "${SOURCE_DIR}/scenes/cornell-mirrors.json" -l 33 -N 32 -m 8 -c 1 -q
+            -o "${WORK_DIR}/small4k.vlf" --report "${WORK_DIR}/small4k.json")
+file(READ "${WORK_DIR}/small4k.json" report4k)
+string(JSON huge4k GET "${report4k}" memory_bytes heap_on_huge_pages)
+if(huge4k)
+  message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.hugetlb=0 was overridden")
+endif()
 foreach(key total sealed empty_footprint grazing_mirror subpixel_mirror rounding)
   string(JSON v GET "${report}" ledger 1 lost ${key})
 endforeach()

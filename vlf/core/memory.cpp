@@ -36,4 +36,20 @@ void restart_with_huge_pages(char** argv) {
     // (Not restarted: the program goes on with the heap it has.)
 }
 
+bool heap_on_huge_pages() {
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    return tunables != nullptr && std::strstr(tunables, "glibc.malloc.hugetlb=1") != nullptr;
+}
+
+int64_t huge_page_bytes() {
+    std::FILE* f = std::fopen("/proc/self/smaps_rollup", "r");
+    if (f == nullptr) return 0;
+    char line[256];
+    long kb = 0;
+    while (std::fgets(line, sizeof line, f) != nullptr)
+        if (std::sscanf(line, "AnonHugePages: %ld kB", &kb) == 1) break;
+    std::fclose(f);
+    return static_cast<int64_t>(kb) * 1024;
+}
+
 }  // namespace vlf

@@ -18,5 +18,10 @@ int64_t current_rss_bytes();  // resident memory now (/proc/self/statm)
 // fault per 2 MiB instead of one per 4 KiB, and their reads miss the TLB far less
 // (BENCHMARKS.md "Huge pages").
 void restart_with_huge_pages(char** argv);
+// Whether this process's heap was asked for huge pages (GLIBC_TUNABLES sets
+// glibc.malloc.hugetlb=1), and how much of its memory is on them now (AnonHugePages of
+// /proc/self/smaps_rollup; 0 where the kernel gives none).
+bool heap_on_huge_pages();
+int64_t huge_page_bytes();
 
 }  // namespace vlf
