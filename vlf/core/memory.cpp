@@ -25,8 +25,11 @@ int64_t current_rss_bytes() {
     return n == 2 ? static_cast<int64_t>(resident) * sysconf(_SC_PAGESIZE) : 0;
 }
 
+namespace {
+constexpr const char* kTunable = "glibc.malloc.hugetlb";  // glibc >= 2.35
+}  // namespace
+
 void restart_with_huge_pages(char** argv) {
-    constexpr const char* kTunable = "glibc.malloc.hugetlb";
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     if (tunables != nullptr && std::strstr(tunables, kTunable) != nullptr) return;
     std::string value = tunables != nullptr && *tunables != '\0' ? std::string(tunables) + ":" : "";
@@ -38,7 +41,8 @@ void restart_with_huge_pages(char** argv) {
 
 bool heap_on_huge_pages() {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
-    return tunables != nullptr && std::strstr(tunables, "glibc.malloc.hugetlb=1") != nullptr;
+    return tunables != nullptr &&
+           std::strstr(tunables, (std::string(kTunable) + "=1").c_str()) != nullptr;
 }
 
 int64_t huge_page_bytes() {

@@ -16,7 +16,7 @@ int64_t current_rss_bytes();  // resident memory now (/proc/self/statm)
 // restart (or the restart fails). To be called first in main(), before any thread or file.
 // A bake's arrays are gigabytes read at random: with 2 MiB pages their first touch costs a
 // fault per 2 MiB instead of one per 4 KiB, and their reads miss the TLB far less
-// (BENCHMARKS.md "Huge pages").
+// (BENCHMARKS.md "Glass", its paragraph "Huge pages").
 void restart_with_huge_pages(char** argv);
 // Whether this process's heap was asked for huge pages (GLIBC_TUNABLES sets
 // glibc.malloc.hugetlb=1), and how much of its memory is on them now (AnonHugePages of
