@@ -44,7 +44,7 @@ Received gather_received(const PassContext& pc, const DirectionGeometry& g, Frag
 // of what the face received is absorbed.
 Rgb receive_diffuse(const PassContext& pc, const DirectionGeometry& g, size_t f, FragRange frags,
                     const Rgb& diffuse, const std::vector<Rgb>& in, ChunkResult& res) {
-    const Chart& chart = pc.scene.chart_of(pc.scene.faces[f]);
+    const Chart& chart = pc.scene.charts[size_t(pc.faces[f].chart)];
     const size_t tb = pc.tex.begin(chart.id);
     const std::vector<Rgb>& albedo = chart.texel_albedo;
     const std::vector<double>& open = chart.texel_open;
@@ -157,8 +157,8 @@ void collect_surface_rays(const PassContext& pc, const PassDirection& pd, size_t
 void collect_surface_power(const PassContext& pc, const PassDirection& pd, size_t f,
                            FragRange frags, const std::vector<Rgb>& in,
                            std::vector<uint32_t>& count, SurfaceArrivals& arrivals) {
-    const int s = pc.surfaces.of_face[f];
-    const int side = (pc.rotations[pd.d] * pc.scene.faces[f].normal).z > 0 ? 0 : 1;
+    const int s = pc.faces[f].surface;
+    const int side = (pc.rotations[pd.d] * pc.faces[f].normal).z > 0 ? 0 : 1;
     const size_t slot = pc.surfaces.pass_slot(pd.d, s, side);
     Rgb* at = arrivals.power.data() + arrivals.first[slot];
     const uint64_t room = arrivals.first[slot + 1] - arrivals.first[slot];
@@ -229,10 +229,10 @@ void exchange_step(const PassDirection& pd, Scratch& w, ChunkResult& res) {
 // keeps exp(-sigma d) of its power, d the distance between the two planes along the ray.
 void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, ChunkResult& res) {
     const DirectionGeometry& g = pd.g;
+    if (!pc.absorbing_glass) return;
     const Scene& scene = pc.scene;
     bool any = false;
-    for (uint32_t f : g.faces)
-        any |= scene.faces[f].inner && scene.material_of(scene.faces[f]).is_absorbing();
+    for (uint32_t f : g.faces) any |= pc.faces[f].absorbing_inner;
     if (!any) return;
     // Which face each slot belongs to (the partner's plane).
     w.slot_face.assign(g.slots(), 0);
@@ -280,8 +280,8 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
     for (size_t k = 0; k < g.faces.size(); ++k) {
         const uint32_t f = g.faces[k];
         const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
-        const Material& mat = pc.scene.material_of(pc.scene.faces[f]);
-        if (surfaces.of_face[f] >= 0) {
+        const Material& mat = pc.scene.materials[size_t(pc.faces[f].material)];
+        if (pc.faces[f].surface >= 0) {
             // A smooth surface's rays, lit or not (the source's window is the whole surface).
             if (pc.hand_caustics) {
                 // Cycle 1: the lamps' direct light, carried on by the lamp caustics' shot.

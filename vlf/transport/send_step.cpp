@@ -27,7 +27,7 @@ void lose_sliver_light(const PassContext& pc, int d, int f, NumericalLoss& lost)
 Rgb sample_exitance(const PassContext& pc, const DirectionGeometry& g, size_t k,
                     std::vector<Rgb>& out, uint32_t& rays) {
     const std::vector<Rgb>& exitance = pc.senders.exitance;
-    const size_t tb = pc.tex.begin(pc.scene.faces[g.faces[k]].chart);
+    const size_t tb = pc.tex.begin(pc.faces[g.faces[k]].chart);
     Rgb sampled(0.0);
     for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                   [&](const Tile&, const Fragment& fr, uint32_t base) {
@@ -215,10 +215,9 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
     // The sending charts' faces present here, grouped by chart (a direction holds a few
     // thousand faces of a scene's million).
     w.by_chart.clear();
-    for (uint32_t k = 0; k < g.faces.size(); ++k) {
-        const int c = pc.scene.faces[g.faces[k]].chart;
-        if (pc.senders.sends[c]) w.by_chart.push_back({uint32_t(c), k});
-    }
+    for (uint32_t k = 0; k < g.faces.size(); ++k)
+        if (pc.senders.face_sends[g.faces[k]])
+            w.by_chart.push_back({uint32_t(pc.faces[g.faces[k]].chart), k});
     std::sort(w.by_chart.begin(), w.by_chart.end());
     for (size_t a = 0; a < w.by_chart.size();) {
         size_t b = a;

@@ -257,6 +257,8 @@ void Transport::run_pass(int pass, double share) {
     const bool keep_plans = pass == 0 && !m_surfaces.empty() && m_params.cache_budget_mib > 0;
     const bool keep_arrivals = keep_plans && m_ranks->size() == 1;
     const PassContext pc{.scene = m_scene,
+                         .faces = m_work->faces,
+                         .absorbing_glass = m_work->absorbing_glass,
                          .dirs = m_dirs,
                          .coverage = m_coverage,
                          .surfaces = m_surfaces,

@@ -162,9 +162,24 @@ double projected_cosine(const Scene& scene, const Chart& c, const Mat3& rotation
 Senders find_senders(const Scene& scene, const TextureMaps& tex,
                      const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm);
 
+// What the steps of a pass read of a face, packed. The scene's Face, with its vertex lists,
+// is some 180 bytes, and every direction of every pass visits each face with rays in it:
+// a curved mirror's 10,000 faces do not fit a core's cache as Faces, and each visit
+// missed it; as PassFaces they do (pass_faces).
+struct PassFace {
+    Vec3 normal;           // Face::normal
+    int32_t chart;         // Face::chart
+    int32_t surface;       // SmoothSurfaces::of_face: its smooth surface, or -1
+    int32_t material;      // Face::material
+    bool absorbing_inner;  // an inner face of absorbing glass (attenuate_step)
+};
+std::vector<PassFace> pass_faces(const Scene& scene, const SmoothSurfaces& surfaces);
+
 // What every step of one pass reads, and the radiance maps its senders write.
 struct PassContext {
     const Scene& scene;
+    const std::vector<PassFace>& faces;  // per face of the scene
+    bool absorbing_glass;                // some face is absorbing_inner
     const DirectionSet& dirs;
     const Coverage& coverage;  // stored faces and emitters, on the N x N grid
     const SmoothSurfaces& surfaces;
@@ -219,6 +234,8 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
 // chunk accumulators of a wave, reused by every pass of every cycle (their contents are
 // overwritten, so reuse never changes a result).
 struct Transport::Workspace {
+    std::vector<transport_detail::PassFace> faces;  // pass_faces of the scene
+    bool absorbing_glass = false;                   // some face is absorbing_inner
     tbb::enumerable_thread_specific<transport_detail::Scratch> scratch;
     std::vector<transport_detail::ChunkResult> chunks;
 };

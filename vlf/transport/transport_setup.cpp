@@ -121,6 +121,18 @@ Transport::Pass Transport::make_pass(int p) const {
     return pass;
 }
 
+namespace transport_detail {
+
+std::vector<PassFace> pass_faces(const Scene& scene, const SmoothSurfaces& surfaces) {
+    std::vector<PassFace> out(scene.faces.size());
+    for (const Face& f : scene.faces)
+        out[size_t(f.id)] = {f.normal, f.chart, surfaces.of_face[size_t(f.id)], f.material,
+                             f.inner && scene.material_of(f).is_absorbing()};
+    return out;
+}
+
+}  // namespace transport_detail
+
 Transport::Transport(const Scene& scene, const PropagateParams& params, Ranks& ranks)
     : m_scene(scene), m_params(params), m_dirs(params.field.directions, params.field.scheme) {
     validate(params);
@@ -165,6 +177,9 @@ Transport::Transport(const Scene& scene, const PropagateParams& params, Ranks& r
     m_pools = build_rim_pools(scene, m_tex);
     m_cache.resize(static_cast<size_t>(l) * m_passes.size());
     m_work = std::make_unique<Workspace>();
+    m_work->faces = transport_detail::pass_faces(scene, m_surfaces);
+    for (const transport_detail::PassFace& f : m_work->faces)
+        m_work->absorbing_glass |= f.absorbing_inner;
     m_timings.setup = setup.seconds();
 }
 
