@@ -45,6 +45,14 @@ struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<int> face_of;  // primID -> face id
+    // What a hit reads of each face, packed (a Face is some 180 bytes; a scene of many
+    // small faces does not fit the cache as Faces).
+    struct HitFace {
+        Vec3 normal;
+        double plane_offset;
+        int twin;
+    };
+    std::vector<HitFace> faces;  // per face id
     std::mutex error_mutex;
     std::string error;  // first message reported by Embree's error callback
 
@@ -111,6 +119,8 @@ RayCaster::RayCaster(const Scene& scene) : m_scene(scene), m_impl(std::make_uniq
         }
     }
     m_triangles = static_cast<int>(im.face_of.size());
+    im.faces.reserve(scene.faces.size());
+    for (const Face& f : scene.faces) im.faces.push_back({f.normal, f.plane_offset, f.twin});
 
     im.scene = rtcNewScene(im.device);
     im.check("scene creation");
@@ -185,15 +195,16 @@ bool RayCaster::intersect(const Vec3& origin, const Vec3& dir, double tmin, doub
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(m_impl->scene, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const std::vector<Impl::HitFace>& faces = m_impl->faces;
     hit.face = m_impl->face_of[rh.hit.primID];
     // A two-sided surface is a face and its reversed twin on one polygon; which of the two
     // Embree reports is arbitrary. The side a ray meets is the one facing it.
-    if (const int twin = m_scene.faces[hit.face].twin;
-        twin >= 0 && glm::dot(m_scene.faces[hit.face].normal, dir) > 0.0)
+    if (const int twin = faces[size_t(hit.face)].twin;
+        twin >= 0 && glm::dot(faces[size_t(hit.face)].normal, dir) > 0.0)
         hit.face = twin;
     // Refine t in double precision on the face's plane (Embree's float t is good to about
     // 1e-7 of the ray length; the plane gives the exact point on the face).
-    const Face& f = m_scene.faces[hit.face];
+    const Impl::HitFace& f = faces[size_t(hit.face)];
     const double nd = glm::dot(f.normal, dir);
     double t = static_cast<double>(rh.ray.tfar);
     if (std::abs(nd) > 1e-9 * glm::length(dir)) {

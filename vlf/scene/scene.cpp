@@ -40,21 +40,30 @@ uint64_t position_hash(const Vec3& p) {
     return h;
 }
 
+namespace {
+
+// A triangle's weights: signed sub-triangle areas about n (x on the plane) over their sum;
+// x slightly outside gives a small negative weight, which extrapolates linearly. False
+// when the sum is not positive (a degenerate triangle).
+bool triangle_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x, double w[3]) {
+    const double a0 = glm::dot(glm::cross(v[1] - x, v[2] - x), n);
+    const double a1 = glm::dot(glm::cross(v[2] - x, v[0] - x), n);
+    const double a2 = glm::dot(glm::cross(v[0] - x, v[1] - x), n);
+    const double sum = a0 + a1 + a2;
+    if (!(sum > 0)) return false;
+    w[0] = a0 / sum, w[1] = a1 / sum, w[2] = a2 / sum;
+    return true;
+}
+
+}  // namespace
+
 void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
                      std::vector<double>& w) {
     const size_t m = v.size();
     w.assign(m, 0.0);
-    if (m == 3) {
-        // Signed sub-triangle areas about n (x on the plane); x slightly outside gives a
-        // small negative weight, which extrapolates linearly.
-        const double a0 = glm::dot(glm::cross(v[1] - x, v[2] - x), n);
-        const double a1 = glm::dot(glm::cross(v[2] - x, v[0] - x), n);
-        const double a2 = glm::dot(glm::cross(v[0] - x, v[1] - x), n);
-        const double sum = a0 + a1 + a2;
-        if (sum > 0) {
-            w = {a0 / sum, a1 / sum, a2 / sum};
-            return;
-        }
+    if (double t[3]; m == 3 && triangle_weights(v, n, x, t)) {
+        w = {t[0], t[1], t[2]};
+        return;
     }
     std::vector<Vec3> d(m);
     std::vector<double> r(m), t(m);
@@ -87,10 +96,16 @@ void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
 Vec3 Scene::shading_normal(const Face& f, const Vec3& x) const {
     if (f.inner && f.twin >= 0) return -shading_normal(faces[size_t(f.twin)], x);
     if (f.vertex_normals.size() != f.vertices.size()) return f.normal;
-    thread_local std::vector<double> w;
-    polygon_weights(f.vertices, f.normal, x, w);
     Vec3 n(0.0);
-    for (size_t i = 0; i < w.size(); ++i) n += w[i] * f.vertex_normals[i];
+    // A triangle (most smooth faces) without polygon_weights' vector: this runs for every
+    // ray that meets a smooth mirror or glass.
+    if (double t[3]; f.vertices.size() == 3 && triangle_weights(f.vertices, f.normal, x, t)) {
+        for (int i = 0; i < 3; ++i) n += t[i] * f.vertex_normals[size_t(i)];
+    } else {
+        thread_local std::vector<double> w;
+        polygon_weights(f.vertices, f.normal, x, w);
+        for (size_t i = 0; i < w.size(); ++i) n += w[i] * f.vertex_normals[i];
+    }
     const double len = glm::length(n);
     // A convex mix of front-side normals stays in front; guard the extrapolated rim.
     if (!(len > 0) || !(glm::dot(n, f.normal) > 1e-6 * len)) return f.normal;
