@@ -410,8 +410,9 @@ Vec3 corner_point(const SurfaceFrame& t, const Face& f, const Vec3& n, int i, in
 }
 
 // The ray of `rays` nearest to scene point x: rings of pixels around x's pixel on the target
-// grid, out to one ring past the first that holds a ray, else all of them.
-size_t nearest_ray(const Scene& scene, const SurfaceRays& rays, const Mat3& rot, int N,
+// grid, out to one ring past the first that holds a ray, else all of them. `points`: each
+// ray's surface_ray_point.
+size_t nearest_ray(const SurfaceRays& rays, const std::vector<Vec3>& points, const Mat3& rot, int N,
                    const Vec3& x) {
     const Vec3 q = rot * x;
     const int ci = int(std::floor((q.x + 1.0) * 0.5 * N)) - rays.i0;
@@ -422,7 +423,7 @@ size_t nearest_ray(const Scene& scene, const SurfaceRays& rays, const Mat3& rot,
         if (a < 0 || b < 0 || a >= rays.width || b >= rays.height) return;
         for (int32_t r = rays.head[size_t(b) * size_t(rays.width) + size_t(a)]; r >= 0;
              r = rays.next[size_t(r)]) {
-            const Vec3 e = surface_ray_point(scene, rot, N, rays.rays[size_t(r)]) - x;
+            const Vec3 e = points[size_t(r)] - x;
             const double d2 = glm::dot(e, e);
             if (d2 < dist) dist = d2, best = size_t(r);
         }
@@ -447,7 +448,8 @@ size_t nearest_ray(const Scene& scene, const SurfaceRays& rays, const Mat3& rot,
 // sending pixels' footprints, each with the sending pixels whose values it takes. Appends to
 // `out`.
 void plan_gather(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
-                 const Mat3& rot, int N, const SurfaceRays& rays, std::vector<GatherEntry>& out) {
+                 const Mat3& rot, int N, const SurfaceRays& rays, const std::vector<Vec3>& points,
+                 std::vector<GatherEntry>& out) {
     double lo_i = 1e300, hi_i = -1e300, lo_j = 1e300, hi_j = -1e300;
     bool rim = false;  // a sending pixel beside one the surface does not cover
     for (uint32_t e = 0; e < n; ++e) {
@@ -478,8 +480,7 @@ void plan_gather(const Scene& scene, const SurfaceFrame& src, uint32_t n, const 
             for (int32_t r =
                      rays.head[size_t(j - rays.j0) * size_t(rays.width) + size_t(i - rays.i0)];
                  r >= 0; r = rays.next[size_t(r)]) {
-                const Vec3 q =
-                    rotate(src.rotation, surface_ray_point(scene, rot, N, rays.rays[size_t(r)]));
+                const Vec3 q = rotate(src.rotation, points[size_t(r)]);
                 const int si = int(std::floor((q.x + 1.0) * 0.5 * src.resolution));
                 const int sj = int(std::floor((q.y + 1.0) * 0.5 * src.resolution));
                 sample(px, n, si, sj, q.z, tol, r, out);
@@ -554,13 +555,15 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
 
 // Plans the gather of a target (its n pixels px from source frame src): its pixels (with
 // where their power is: `first` plus their rays' index) and entries, appended to `plan`.
+// `points`: the scene point of each of `rays` (surface_ray_point), made once per direction
+// for all its targets.
 void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
-                 const Mat3& rot, int N, const SurfaceRays& rays, uint64_t first,
-                 SurfaceGatherPlan& plan) {
+                 const Mat3& rot, int N, const SurfaceRays& rays, const std::vector<Vec3>& points,
+                 uint64_t first, SurfaceGatherPlan& plan) {
     const size_t e0 = plan.entries.size();
     plan.pixel_begin.push_back(uint32_t(plan.pixels.size()));
     plan.entry_begin.push_back(uint32_t(e0));
-    plan_gather(scene, src, n, px, rot, N, rays, plan.entries);
+    plan_gather(scene, src, n, px, rot, N, rays, points, plan.entries);
     constexpr uint32_t kSmall = 64;
     uint8_t small[kSmall] = {};
     std::vector<uint8_t> large;
@@ -574,7 +577,7 @@ void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const 
             const Vec3 x = rotate_back(
                 src.rotation, Vec3(2.0 * (q.i + 0.5) / src.resolution - 1.0,
                                    2.0 * (q.j + 0.5) / src.resolution - 1.0, double(q.depth)));
-            nearest = int32_t(nearest_ray(scene, rays, rot, N, x));
+            nearest = int32_t(nearest_ray(rays, points, rot, N, x));
         }
         plan.pixels.push_back({uint32_t(first + q.ray), nearest, q.part});
     }
@@ -676,6 +679,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     // direction; a kept plan is copied out at its exact size (growing each one in place
     // would copy it and fault in fresh pages at every doubling).
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
+    tbb::enumerable_thread_specific<std::vector<Vec3>> scratch_points;
     parallel_for(maps.first, maps.last, [&](long d) {
         std::vector<Segment>& segments = in.segments[size_t(d)];
         if (keep) cache.gathers[size_t(d)].clear();
@@ -684,7 +688,8 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         if (segments.empty()) return;
         const Mat3& rot = rotations[size_t(d)];
         std::vector<SurfaceRays*> group_rays;
-        std::vector<uint32_t> source;  // per target: its source
+        std::vector<uint32_t> source;                        // per target: its source
+        std::vector<Vec3>& points = scratch_points.local();  // the group's rays' points
         for (size_t g = 0; g < G; ++g) {
             uint32_t n = 0;  // the group's targets
             for (const Segment& sg : segments) n += sg.ref_begin[g + 1] - sg.ref_begin[g];
@@ -692,6 +697,9 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
             const SurfaceRays& rays = *group_rays.emplace_back(
                 &rays_of(scene, dirs, surfaces, rot, N, m, surface, int(d), sense, cache));
+            points.resize(rays.rays.size());
+            for (size_t k = 0; k < rays.rays.size(); ++k)
+                points[k] = surface_ray_point(scene, rot, N, rays.rays[k]);
             plan.groups.push_back({surface, sense, uint32_t(source.size() + n)});
             for (const Segment& sg : segments) {
                 const SurfacePixel* px = sg.pixels.data() + sg.pixel_begin[g];
@@ -700,7 +708,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
                     const SurfaceFrame& src = sources[ref.source].frame;
                     const uint64_t first =
                         keep ? arrivals->first[surfaces.pass_slot(src.direction, 0, 0)] : 0;
-                    plan_target(scene, src, ref.n, px, rot, N, rays, first, plan);
+                    plan_target(scene, src, ref.n, px, rot, N, rays, points, first, plan);
                     px += ref.n;
                     source.push_back(ref.source);
                 }
