@@ -74,11 +74,14 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
     const RadianceMaps& spec = transport.specular_maps();
     const RadianceMaps& other = transport.other_maps();
     samples.clear();
-    for (const Face& f : scene.faces) {  // ascending face id: per-pixel order is by face
-        const RadianceMaps* maps = spec.stores(f.id)    ? &spec
-                                   : other.stores(f.id) ? &other
-                                                        : nullptr;
-        if (!maps) continue;
+    // The stored faces in ascending face id (per-pixel order is by face): the two maps' face
+    // lists, each ascending, merged (a walk over all the scene's faces would read every
+    // Face of a million-triangle scene in every direction).
+    for (size_t a = 0, b = 0; a < spec.faces.size() || b < other.faces.size();) {
+        const bool specular =
+            b == other.faces.size() || (a < spec.faces.size() && spec.faces[a] < other.faces[b]);
+        const Face& f = scene.faces[size_t(specular ? spec.faces[a++] : other.faces[b++])];
+        const RadianceMaps* maps = specular ? &spec : &other;
         const uint64_t begin = maps->begin(d, f.id), count = maps->count(d, f.id);
         rasterise_face(f, transport.rotations()[d], N, m, raster);
         VLF_CHECK(raster.covered == count);
