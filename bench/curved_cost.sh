@@ -19,6 +19,7 @@ while getopts "b:r:" opt; do
   esac
 done
 shift $((OPTIND - 1))
+[ "$repeat" -ge 1 ] 2> /dev/null || { echo "curved_cost.sh: -r must be at least 1" >&2; exit 2; }
 cd "$(dirname "$0")/.."
 build=$(realpath "$build")
 args=("$@")
@@ -44,7 +45,7 @@ echo "| --- | ---: | ---: | ---: | ---: | ---: | --- |"
 # Rounds of the three scenes one after the other (not each scene's runs in a row): this
 # machine's speed drifts by a quarter within minutes, and a drift then moves every scene of
 # a round alike. Each round's ratios are printed beside the medians.
-for round in $(seq "$repeat"); do
+for _ in $(seq "$repeat"); do
   for k in "${!scenes[@]}"; do
     /usr/bin/time -f "%e %M" -o "$work/time" nice "$build/propagate/propagate" "${scenes[$k]}" \
       "${args[@]}" -q -o "$work/out.vlf" --report "$work/r.json" > /dev/null

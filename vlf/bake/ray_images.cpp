@@ -75,9 +75,12 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
     const RadianceMaps& other = transport.other_maps();
     samples.clear();
     // The stored faces in ascending face id (per-pixel order is by face): the two maps' face
-    // lists, each ascending, merged (a walk over all the scene's faces would read every
-    // Face of a million-triangle scene in every direction).
+    // lists, each ascending and disjoint (a face is specular or not), merged; a walk over
+    // all the scene's faces would read every Face of a million-triangle scene in every
+    // direction.
     for (size_t a = 0, b = 0; a < spec.faces.size() || b < other.faces.size();) {
+        VLF_DCHECK(a == spec.faces.size() || b == other.faces.size() ||
+                   spec.faces[a] != other.faces[b]);
         const bool specular =
             b == other.faces.size() || (a < spec.faces.size() && spec.faces[a] < other.faces[b]);
         const Face& f = scene.faces[size_t(specular ? spec.faces[a++] : other.faces[b++])];

@@ -45,8 +45,8 @@ struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<int> face_of;  // primID -> face id
-    // What a hit reads of each face, packed (a Face is some 180 bytes; a scene of many
-    // small faces does not fit the cache as Faces).
+    // What a hit reads of each face, packed (a Face is 152 bytes; a scene of many small
+    // faces does not fit the cache as Faces).
     struct HitFace {
         Vec3 normal;
         double plane_offset;

@@ -257,7 +257,6 @@ Senders find_senders(const Scene& scene, const TextureMaps& tex,
                      const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm) {
     const size_t nc = scene.charts.size();
     Senders out;
-    out.sends.assign(nc, 0);
     out.face_sends.assign(scene.faces.size(), 0);
     out.unshot.assign(nc, Rgb(0.0));
     out.exitance.assign(tex.texels(), Rgb(0.0));
@@ -265,8 +264,7 @@ Senders find_senders(const Scene& scene, const TextureMaps& tex,
         if (deferred[c.id]) continue;
         const size_t tb = tex.begin(c.id);
         const Rgb u = TextureMaps::sum(tex.current, tb, tex.count(c.id));
-        out.sends[c.id] = (u.x > 0 || u.y > 0 || u.z > 0) && send_norm[c.id] > 0;
-        if (!out.sends[c.id]) continue;
+        if (!((u.x > 0 || u.y > 0 || u.z > 0) && send_norm[c.id] > 0)) continue;
         out.unshot[c.id] = u;
         for (int f : c.faces) out.face_sends[f] = 1;
         for (size_t t = 0; t < tex.count(c.id); ++t)

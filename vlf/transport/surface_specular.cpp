@@ -555,8 +555,8 @@ void apply_target(const GatherPixel* p, uint32_t n, Power&& power, const GatherE
 
 // Plans the gather of a target (its n pixels px from source frame src): its pixels (with
 // where their power is: `first` plus their rays' index) and entries, appended to `plan`.
-// `points`: the scene point of each of `rays` (surface_ray_point), made once per direction
-// for all its targets.
+// `points`: the scene point of each of `rays` (surface_ray_point), made once per group of a
+// direction for all the group's targets.
 void plan_target(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
                  const Mat3& rot, int N, const SurfaceRays& rays, const std::vector<Vec3>& points,
                  uint64_t first, SurfaceGatherPlan& plan) {

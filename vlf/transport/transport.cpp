@@ -74,6 +74,7 @@ int64_t Transport::memory_bytes() const {
     return static_cast<int64_t>(m_tex.texels() * 3 * sizeof(Rgb)) + m_spec.bytes() +
            m_other.bytes() + m_coverage.bytes() + m_surface_rays.bytes() + surface_plan_bytes() +
            static_cast<int64_t>(m_work->chunks.capacity() * m_tex.texels() * sizeof(Rgb)) +
+           static_cast<int64_t>(m_work->faces.capacity() * sizeof(PassFace)) +
            geometry_cache_bytes();
 }
 

@@ -150,7 +150,6 @@ const DirectionGeometry& direction_geometry(const GeometryInputs& in, const Geom
 
 // Which charts send diffuse power in a pass, and what they send.
 struct Senders {
-    std::vector<uint8_t> sends;       // per chart
     std::vector<uint8_t> face_sends;  // per face: its chart sends
     std::vector<Rgb> unshot;          // per chart: its unshot power U (zero if it does not send)
     std::vector<Rgb> exitance;        // per texel: unshot exitance of the sending charts
@@ -163,9 +162,9 @@ Senders find_senders(const Scene& scene, const TextureMaps& tex,
                      const std::vector<uint8_t>& deferred, const std::vector<double>& send_norm);
 
 // What the steps of a pass read of a face, packed. The scene's Face, with its vertex lists,
-// is some 180 bytes, and every direction of every pass visits each face with rays in it:
-// a curved mirror's 10,000 faces do not fit a core's cache as Faces, and each visit
-// missed it; as PassFaces they do (pass_faces).
+// is 152 bytes, and every direction of every pass visits each face with rays in it: a
+// curved mirror's 10,000 faces (1.5 MB) do not fit a core's cache as Faces, and each visit
+// missed it; as PassFaces (0.4 MB) they do (pass_faces).
 struct PassFace {
     Vec3 normal;           // Face::normal
     int32_t chart;         // Face::chart
@@ -230,9 +229,9 @@ void receive_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Ch
 
 }  // namespace transport_detail
 
-// Buffers that live as long as the transport: one Scratch per worker thread and the
-// chunk accumulators of a wave, reused by every pass of every cycle (their contents are
-// overwritten, so reuse never changes a result).
+// What the passes keep as long as the transport: the packed per-face table (made once),
+// one Scratch per worker thread and the chunk accumulators of a wave, reused by every pass
+// of every cycle (their contents are overwritten, so reuse never changes a result).
 struct Transport::Workspace {
     std::vector<transport_detail::PassFace> faces;  // pass_faces of the scene
     bool absorbing_glass = false;                   // some face is absorbing_inner
