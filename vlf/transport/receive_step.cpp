@@ -141,8 +141,7 @@ void aim(const PassContext& pc, const SpecularSource& src, int onto, const Vec3&
 void collect_surface_rays(const PassContext& pc, const PassDirection& pd, size_t f, FragRange frags,
                           const std::vector<Rgb>& in, std::vector<std::vector<SurfaceRay>>& out) {
     const PlaneInPsf plane(pc.scene.faces[f], pc.rotations[pd.d], pc.N);
-    std::vector<SurfaceRay>& rays =
-        out[size_t(pc.surfaces.of_face[f]) * 2 + (plane.n.z > 0 ? 0 : 1)];
+    std::vector<SurfaceRay>& rays = out[size_t(pc.faces[f].surface) * 2 + (plane.n.z > 0 ? 0 : 1)];
     for_fragments(pd.g, frags, [&](const Tile& tile, const Fragment& fr, uint32_t base) {
         tile.edge_table(fr).for_each_ray([&](int u, int v, int k) {
             const int i = tile.s * pc.m + u, j = tile.t * pc.m + v;
@@ -244,9 +243,8 @@ void attenuate_step(const PassContext& pc, const PassDirection& pd, Scratch& w, 
     const Mat3& rot = pc.rotations[pd.d];
     auto depth = [&](const Face& f, double x, double y) { return plane_depth(f, rot, x, y); };
     for (size_t k = 0; k < g.faces.size(); ++k) {
+        if (!pc.faces[g.faces[k]].absorbing_inner) continue;
         const Face& face = scene.faces[g.faces[k]];
-        const Material& mat = scene.material_of(face);
-        if (!face.inner || !mat.is_absorbing()) continue;
         for_fragments(g, {g.face_begin[k], g.face_begin[k + 1]},
                       [&](const Tile& tile, const Fragment& fr, uint32_t base) {
                           tile.edge_table(fr).for_each_ray([&](int u, int v, int j) {
