@@ -143,7 +143,7 @@ TEST(BakeGeometry, KeepsTwoSidedTwins) {
     ASSERT_GT(twins, 0);
     const fs::path file = fs::temp_directory_path() / "vlf-bake-twins.bin";
     write_geometry(file.string(), a);
-    Scene b = scene_from_json(scene_to_json(a), "scene.json");
+    Scene b = vlf::scene_from_json(scene_to_json(a), "scene.json");
     read_geometry(file.string(), b);
     for (size_t f = 0; f < a.faces.size(); ++f) EXPECT_EQ(b.faces[f].twin, a.faces[f].twin);
     for (Face& f : a.faces)
@@ -152,7 +152,7 @@ TEST(BakeGeometry, KeepsTwoSidedTwins) {
             break;
         }
     write_geometry(file.string(), a);
-    Scene c = scene_from_json(scene_to_json(a), "scene.json");
+    Scene c = vlf::scene_from_json(scene_to_json(a), "scene.json");
     try {
         read_geometry(file.string(), c);
         ADD_FAILURE() << "a one-way twin was accepted";

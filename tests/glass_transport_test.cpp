@@ -27,13 +27,7 @@ namespace {
 using test::params;
 using test::run_transport;
 using test::scene_from_json;
-
-// The irradiance a texel of a diffuse chart (rho_d 0.5) received in cycle 1, W per square
-// unit (its P^T after one cycle is rho_d E A).
-double texel_irradiance(const Transport& t, const Chart& c, size_t k) {
-    const size_t at = t.texture_maps().begin(c.id) + k;
-    return t.texture_maps().total[at].x / (0.5 * c.texel_area[k]);
-}
+using test::texel_irradiance;
 
 // The user-space bounds of texel k of chart c.
 void texel_bounds(const Scene& scene, const Chart& c, size_t k, Vec3& lo, Vec3& hi) {

@@ -47,12 +47,7 @@ TexelRect texel_rect(const Scene& scene, const Chart& c, size_t k) {
             std::max(-2.0, std::min(a.z, b.z)), std::min(2.0, std::max(a.z, b.z))};
 }
 
-// The irradiance a floor texel received in cycle 1 (W per square unit): rho_d E A is what
-// its P^T holds after one cycle, the floor seeing nothing else.
-double texel_irradiance(const Transport& t, const Chart& c, size_t k) {
-    const size_t at = t.texture_maps().begin(c.id) + k;
-    return t.texture_maps().total[at].x / (0.5 * c.texel_area[k]);
-}
+using test::texel_irradiance;
 
 const Chart& floor_chart(const Scene& scene) {
     return scene.chart_of(scene.faces[size_t(scene.objects[0].first_face)]);

@@ -8,22 +8,21 @@
 #include <map>
 #include <tuple>
 
+#include "test_util.hpp"
 #include "vlf/scene/texel_frame.hpp"
 
 namespace vlf {
 namespace {
 
-using Key = std::tuple<double, double, double>;
-Key key(const Vec3& v) {
-    return {v.x, v.y, v.z};
-}
+using test::vertex_key;
 
 // Every directed edge a->b has exactly one partner b->a: the faces form closed,
 // consistently oriented surfaces (and shared vertices are bit-identical).
 bool closed_and_consistent(const std::vector<Polygon>& faces) {
-    std::map<std::pair<Key, Key>, int> edges;
+    std::map<std::pair<test::VertexKey, test::VertexKey>, int> edges;
     for (const Polygon& p : faces)
-        for (size_t i = 0; i < p.size(); ++i) ++edges[{key(p[i]), key(p[(i + 1) % p.size()])}];
+        for (size_t i = 0; i < p.size(); ++i)
+            ++edges[{vertex_key(p[i]), vertex_key(p[(i + 1) % p.size()])}];
     for (const auto& [e, n] : edges) {
         if (n != 1) return false;
         auto it = edges.find({e.second, e.first});

@@ -619,7 +619,7 @@ TEST(BakeSmooth, VertexNormalsRoundTripAndDamageIsRefused) {
     const fs::path file =
         fs::temp_directory_path() / ("vlf-bake-smooth-" + std::to_string(::getpid()) + ".bin");
     write_geometry(file.string(), a);
-    Scene b = scene_from_json(scene_to_json(a), "scene.json");
+    Scene b = vlf::scene_from_json(scene_to_json(a), "scene.json");
     read_geometry(file.string(), b);
     ASSERT_EQ(b.faces.size(), a.faces.size());
     size_t normals = 0;
@@ -633,7 +633,7 @@ TEST(BakeSmooth, VertexNormalsRoundTripAndDamageIsRefused) {
     EXPECT_EQ(normals, 2u * 80 * 3 + 8 * 4);  // glass and its twins, the cylinder's walls
     auto refused = [&](Scene damaged, const std::string& why) {
         write_geometry(file.string(), damaged);
-        Scene c = scene_from_json(scene_to_json(damaged), "scene.json");
+        Scene c = vlf::scene_from_json(scene_to_json(damaged), "scene.json");
         try {
             read_geometry(file.string(), c);
             ADD_FAILURE() << "accepted: " << why;
@@ -658,7 +658,7 @@ TEST(BakeSmooth, VertexNormalsRoundTripAndDamageIsRefused) {
         io.seekp(7);
         io.put('1');
     }
-    Scene e = scene_from_json(scene_to_json(a), "scene.json");
+    Scene e = vlf::scene_from_json(scene_to_json(a), "scene.json");
     try {
         read_geometry(file.string(), e);
         ADD_FAILURE() << "format 01 accepted";

@@ -33,12 +33,7 @@ const Material& material_named(const Scene& s, const std::string& name) {
     return s.materials.front();
 }
 
-const SceneObject& object_named(const Scene& s, const std::string& name) {
-    for (const SceneObject& o : s.objects)
-        if (o.name == name) return o;
-    ADD_FAILURE() << "no object " << name;
-    return s.objects.front();
-}
+using test::object_named;
 
 bool has_note(const Scene& s, const std::string& text) {
     for (const std::string& n : s.load_notes)

@@ -32,17 +32,15 @@ Scene load_closed_box() {
     return load_scene(kScenes + "/closed-box.json");
 }
 
-using Key = std::tuple<double, double, double>;
-Key key(const Vec3& v) {
-    return {v.x, v.y, v.z};
-}
+using test::vertex_key;
 
 // Every directed edge of the given faces has exactly one reversed partner among them.
 bool closed_and_consistent(const Scene& s, int first, int count) {
-    std::map<std::pair<Key, Key>, int> edges;
+    std::map<std::pair<test::VertexKey, test::VertexKey>, int> edges;
     for (int f = first; f < first + count; ++f) {
         const auto& v = s.faces[f].vertices;
-        for (size_t i = 0; i < v.size(); ++i) ++edges[{key(v[i]), key(v[(i + 1) % v.size()])}];
+        for (size_t i = 0; i < v.size(); ++i)
+            ++edges[{vertex_key(v[i]), vertex_key(v[(i + 1) % v.size()])}];
     }
     for (const auto& [e, n] : edges) {
         if (n != 1) return false;
@@ -60,12 +58,7 @@ double signed_volume(const Scene& s, int first, int count) {
     return v;
 }
 
-const SceneObject& object_named(const Scene& s, const std::string& name) {
-    for (const auto& o : s.objects)
-        if (o.name == name) return o;
-    ADD_FAILURE() << "no object " << name;
-    return s.objects.front();
-}
+using test::object_named;
 
 double user_area(const Scene& s, const Face& f) {
     return f.area / (s.normalisation.scale * s.normalisation.scale);

@@ -23,12 +23,7 @@ using test::params;
 using test::run_transport;
 using test::scene_from_json;
 
-const SceneObject& object_named(const Scene& scene, const std::string& name) {
-    for (const SceneObject& o : scene.objects)
-        if (o.name == name) return o;
-    ADD_FAILURE() << "no object " << name;
-    return scene.objects[0];
-}
+using test::object_named;
 
 // A 1 x 1 mirror on the floor plane under a square lamp at height 1.9 (facing down) and a
 // diffuse ceiling at height 2 (facing down). The lamp cannot light the ceiling; only what the

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "vlf/bake/bake.hpp"
@@ -174,6 +175,27 @@ inline void subdivide_obj(const std::filesystem::path& in, const std::filesystem
 // A scene from JSON text, its files relative to scenes/.
 inline Scene scene_from_json(const std::string& text) {
     return load_scene_from_string(text, "test.json", source_path("scenes"));
+}
+
+// The object of that name (a test failure, and the first object, where there is none).
+inline const SceneObject& object_named(const Scene& s, const std::string& name) {
+    for (const SceneObject& o : s.objects)
+        if (o.name == name) return o;
+    ADD_FAILURE() << "no object " << name;
+    return s.objects.front();
+}
+
+// The irradiance a texel of a diffuse chart of rho_d 0.5 received in cycle 1, W per square
+// unit (its P^T after one cycle is rho_d E A).
+inline double texel_irradiance(const Transport& t, const Chart& c, size_t k) {
+    const size_t at = t.texture_maps().begin(c.id) + k;
+    return t.texture_maps().total[at].x / (0.5 * c.texel_area[k]);
+}
+
+// A vertex as an exact key: shared vertices of closed surfaces are bit-identical.
+using VertexKey = std::tuple<double, double, double>;
+inline VertexKey vertex_key(const Vec3& v) {
+    return {v.x, v.y, v.z};
 }
 
 }  // namespace vlf::test
