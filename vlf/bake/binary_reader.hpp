@@ -19,6 +19,14 @@
 
 namespace vlf {
 
+// Appends v's bytes (the writers' side of the same parts).
+template <class T>
+void append_raw(std::vector<char>& out, const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const char* p = reinterpret_cast<const char*>(&v);
+    out.insert(out.end(), p, p + sizeof(T));
+}
+
 class BinaryReader {
   public:
     // The whole of `file`; Error "<file>: cannot be read" when it cannot be opened.

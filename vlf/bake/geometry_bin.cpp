@@ -32,7 +32,7 @@ namespace vlf {
 
 namespace {
 
-constexpr char kMagic[8] = {'V', 'L', 'F', 'G', 'E', 'O', '0', '2'};
+constexpr char kGeometryMagic[8] = {'V', 'L', 'F', 'G', 'E', 'O', '0', '2'};
 constexpr int kMaxTexelsPerSide = 65536;
 
 static_assert(sizeof(double) == 8 && std::numeric_limits<double>::is_iec559);
@@ -251,7 +251,7 @@ void write_geometry(const std::string& file, const Scene& scene) {
     for (const Chart& c : scene.charts) texels += c.texel_area.size();
     Writer w(
         file_bytes(scene.faces.size(), scene.charts.size(), vertices, texels, normal_count(scene)));
-    for (char c : kMagic) w.put(c);
+    for (char c : kGeometryMagic) w.put(c);
     VLF_CHECK(vertices < (uint64_t(1) << 32) && scene.faces.size() < (size_t(1) << 31));
     w.put(uint64_t(scene.faces.size()));
     w.put(uint64_t(scene.charts.size()));
@@ -270,10 +270,10 @@ void read_geometry(const std::string& file, Scene& scene) {
     BinaryReader r(file);
     char magic[8];
     for (char& c : magic) c = r.get<char>("the header");
-    if (std::memcmp(magic, kMagic, 6) != 0) r.fail("not a VLF geometry file (bad magic)");
-    if (std::memcmp(magic, kMagic, 8) != 0)
+    if (std::memcmp(magic, kGeometryMagic, 6) != 0) r.fail("not a VLF geometry file (bad magic)");
+    if (std::memcmp(magic, kGeometryMagic, 8) != 0)
         r.fail(fmt::format("geometry format {} is not supported (this build reads {})",
-                           std::string(magic + 6, 2), std::string(kMagic + 6, 2)));
+                           std::string(magic + 6, 2), std::string(kGeometryMagic + 6, 2)));
     const uint64_t F = r.get<uint64_t>("the header"), C = r.get<uint64_t>("the header");
     const uint64_t V = r.get<uint64_t>("the header"), T = r.get<uint64_t>("the header");
     // The counts fix the file's size: a header that does not match it is refused before

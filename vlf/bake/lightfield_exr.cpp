@@ -28,7 +28,7 @@ namespace vlf {
 
 namespace {
 
-const char* const kChannels[3] = {"R", "G", "B"};
+const char* const kRayChannels[3] = {"R", "G", "B"};
 
 std::string part_name(int d) {
     return fmt::format("dir{}", d);
@@ -42,7 +42,7 @@ Imf::Header part_header(const FieldParams& field, const DirectionSet& directions
     h.setTileDescription(Imf::TileDescription(m, m, Imf::ONE_LEVEL));
     h.compression() = Imf::ZIPS_COMPRESSION;  // ZIP and PIZ are rejected for deep data
     h.channels().insert("face", Imf::Channel(Imf::UINT));
-    for (const char* c : kChannels) h.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const char* c : kRayChannels) h.channels().insert(c, Imf::Channel(Imf::FLOAT));
     const Vec3 w = directions.direction(d);
     h.insert("vlfDirectionIndex", Imf::IntAttribute(d));
     h.insert("vlfDirection", Imf::V3dAttribute(Imath::V3d(w.x, w.y, w.z)));
@@ -80,7 +80,7 @@ struct DeepPointers {
         fb.insert("face", Imf::DeepSlice(Imf::UINT, reinterpret_cast<char*>(face.data()),
                                          sizeof(char*), sizeof(char*) * N, sizeof(uint32_t)));
         for (int c = 0; c < 3; ++c)
-            fb.insert(kChannels[c],
+            fb.insert(kRayChannels[c],
                       Imf::DeepSlice(Imf::FLOAT, reinterpret_cast<char*>(rgb[c].data()),
                                      sizeof(char*), sizeof(char*) * N, sizeof(RgbF)));
         return fb;
@@ -153,7 +153,7 @@ void check_part_header(const Imf::Header& h, int d, const LightfieldLayout& layo
                                           td.ySize, m, m));
     const Imf::Channel* fc = h.channels().findChannel("face");
     if (!fc || fc->type != Imf::UINT) errors.fail(part, "channel 'face' (UINT) is missing");
-    for (const char* n : kChannels) {
+    for (const char* n : kRayChannels) {
         const Imf::Channel* c = h.channels().findChannel(n);
         if (!c || c->type != Imf::FLOAT)
             errors.fail(part, fmt::format("channel '{}' (FLOAT) is missing", n));

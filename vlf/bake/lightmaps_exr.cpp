@@ -18,7 +18,7 @@ namespace vlf {
 
 namespace {
 
-const char* const kChannels[3] = {"R", "G", "B"};
+const char* const kLightmapChannels[3] = {"R", "G", "B"};
 
 }  // namespace
 
@@ -43,9 +43,10 @@ void write_lightmaps_exr(const std::string& file, const Atlas& atlas,
     header.compression() = Imf::ZIP_COMPRESSION;
     Imf::FrameBuffer fb;
     for (int c = 0; c < 3; ++c) {
-        header.channels().insert(kChannels[c], Imf::Channel(Imf::HALF));
-        fb.insert(kChannels[c], Imf::Slice(Imf::HALF, reinterpret_cast<char*>(rgb[c].data()),
-                                           sizeof(half), sizeof(half) * w));
+        header.channels().insert(kLightmapChannels[c], Imf::Channel(Imf::HALF));
+        fb.insert(kLightmapChannels[c],
+                  Imf::Slice(Imf::HALF, reinterpret_cast<char*>(rgb[c].data()), sizeof(half),
+                             sizeof(half) * w));
     }
     header.insert("vlfContent", Imf::StringAttribute("diffuse total radiance P^T, W m^-2 sr^-1"));
     Imf::OutputFile out(file.c_str(), header);
@@ -66,7 +67,7 @@ std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<A
     if (w != atlas_width || h != atlas_height)
         errors.mismatch(part, fmt::format("the atlas is {}x{}, the manifest says {}x{}", w, h,
                                           atlas_width, atlas_height));
-    for (const char* n : kChannels)
+    for (const char* n : kLightmapChannels)
         if (!in.header().channels().findChannel(n))
             errors.fail(part, fmt::format("channel {} is missing", n));
     for (const AtlasRect& a : rects)
@@ -77,8 +78,9 @@ std::vector<Rgb> read_lightmaps_exr(const std::string& file, const std::vector<A
     Imf::FrameBuffer fb;
     for (int c = 0; c < 3; ++c) {
         rgb[c].assign(size_t(w) * h, 0.0f);
-        fb.insert(kChannels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb[c].data()),
-                                           sizeof(float), sizeof(float) * size_t(w)));
+        fb.insert(kLightmapChannels[c],
+                  Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb[c].data()), sizeof(float),
+                             sizeof(float) * size_t(w)));
     }
     in.setFrameBuffer(fb);
     in.readPixels(0, h - 1);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "vlf/bake/scene_json.hpp"
 #include "vlf/core/checksum.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/core/json_reader.hpp"
@@ -13,14 +14,6 @@ namespace vlf {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-namespace {
-
-json vec_json(const Vec3& v) {
-    return json::array({v.x, v.y, v.z});
-}
-
-}  // namespace
 
 json make_manifest(const Scene& scene, const PropagateParams& params, const json& report) {
     auto from_report = [&](const char* key) {

@@ -9,13 +9,9 @@ namespace vlf {
 
 using nlohmann::json;
 
-namespace {
-
 json vec_json(const Vec3& v) {
     return json::array({v.x, v.y, v.z});
 }
-
-}  // namespace
 
 json scene_to_json(const Scene& scene) {
     json materials = json::array();

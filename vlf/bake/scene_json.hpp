@@ -12,6 +12,8 @@
 namespace vlf {
 
 nlohmann::json scene_to_json(const Scene& scene);
+// [x, y, z]
+nlohmann::json vec_json(const Vec3& v);
 
 // Reads what scene_to_json wrote; every key is checked and unknown keys are refused.
 // Throws Error "<file>: <json.path>: <problem>" (core/json_reader.hpp).

@@ -24,34 +24,28 @@ namespace vlf {
 
 namespace {
 
-constexpr char kMagic[8] = {'V', 'L', 'F', 'T', 'E', 'X', '0', '1'};
-
-template <class T>
-void put(std::vector<char>& out, const T& v) {
-    const char* p = reinterpret_cast<const char*>(&v);
-    out.insert(out.end(), p, p + sizeof(T));
-}
+constexpr char kTexturesMagic[8] = {'V', 'L', 'F', 'T', 'E', 'X', '0', '1'};
 
 }  // namespace
 
 void write_textures(const std::string& file, const Scene& scene) {
-    std::vector<char> out(kMagic, kMagic + 8);
-    put(out, uint64_t(scene.textures.size()));
+    std::vector<char> out(kTexturesMagic, kTexturesMagic + 8);
+    append_raw(out, uint64_t(scene.textures.size()));
     for (const Texture& t : scene.textures) {
-        put(out, uint32_t(t.name.size()));
+        append_raw(out, uint32_t(t.name.size()));
         out.insert(out.end(), t.name.begin(), t.name.end());
-        put(out, int32_t(t.width));
-        put(out, int32_t(t.height));
+        append_raw(out, int32_t(t.width));
+        append_raw(out, int32_t(t.height));
         out.insert(out.end(), t.srgb.begin(), t.srgb.end());
     }
     uint64_t with_uv = 0;
     for (const Face& f : scene.faces) with_uv += f.uv.empty() ? 0 : 1;
-    put(out, with_uv);
+    append_raw(out, with_uv);
     for (const Face& f : scene.faces) {
         if (f.uv.empty()) continue;
         VLF_CHECK(f.uv.size() == f.vertices.size());
-        put(out, uint32_t(f.id));
-        for (const Vec2& uv : f.uv) put(out, uv.x), put(out, uv.y);
+        append_raw(out, uint32_t(f.id));
+        for (const Vec2& uv : f.uv) append_raw(out, uv.x), append_raw(out, uv.y);
     }
     std::ofstream os(file, std::ios::binary | std::ios::trunc);
     os.write(out.data(), static_cast<std::streamsize>(out.size()));
@@ -61,7 +55,7 @@ void write_textures(const std::string& file, const Scene& scene) {
 
 void read_textures(const std::string& file, Scene& scene) {
     BinaryReader r(file);
-    for (char c : kMagic)
+    for (char c : kTexturesMagic)
         if (r.get<char>("the header") != c) r.fail("not a VLF textures file (bad magic)");
     const uint64_t T = r.get<uint64_t>("the header");
     if (T > 1u << 20) r.fail(fmt::format("implausible texture count {}", T));

@@ -20,25 +20,19 @@ namespace vlf {
 
 namespace {
 
-constexpr char kMagic[8] = {'V', 'L', 'F', 'V', 'T', 'X', '0', '1'};
-
-template <class T>
-void put(std::vector<char>& out, const T& v) {
-    const char* p = reinterpret_cast<const char*>(&v);
-    out.insert(out.end(), p, p + sizeof(T));
-}
+constexpr char kVertexLightMagic[8] = {'V', 'L', 'F', 'V', 'T', 'X', '0', '1'};
 
 }  // namespace
 
 void write_vertex_light(const std::string& file, const Scene& scene, const VertexLight& light) {
-    std::vector<char> out(kMagic, kMagic + 8);
-    put(out, uint64_t(light.face_count()));
+    std::vector<char> out(kVertexLightMagic, kVertexLightMagic + 8);
+    append_raw(out, uint64_t(light.face_count()));
     for (const Face& f : scene.faces) {
         if (!light.has(f.id)) continue;
-        put(out, uint32_t(f.id));
+        append_raw(out, uint32_t(f.id));
         const RgbF* v = light.incident.data() + light.first[size_t(f.id)];
         for (size_t i = 0; i < f.vertices.size(); ++i)
-            for (int c = 0; c < 3; ++c) put(out, float(v[i][c]));
+            for (int c = 0; c < 3; ++c) append_raw(out, float(v[i][c]));
     }
     std::ofstream os(file, std::ios::binary | std::ios::trunc);
     os.write(out.data(), static_cast<std::streamsize>(out.size()));
@@ -48,7 +42,7 @@ void write_vertex_light(const std::string& file, const Scene& scene, const Verte
 
 VertexLight read_vertex_light(const std::string& file, const Scene& scene) {
     BinaryReader r(file);
-    for (char c : kMagic)
+    for (char c : kVertexLightMagic)
         if (r.get<char>("the header") != c) r.fail("not a VLF vertex light file (bad magic)");
     const uint64_t G = r.get<uint64_t>("the header");
     if (G > scene.faces.size())
