@@ -2,6 +2,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <limits>
 
 namespace vlf {
 
@@ -16,5 +17,6 @@ inline double luminance(const Rgb& c) {
 }
 
 inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 }  // namespace vlf

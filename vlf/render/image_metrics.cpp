@@ -12,8 +12,6 @@ namespace vlf {
 
 namespace {
 
-constexpr double kMetricInf = std::numeric_limits<double>::infinity();
-
 void check_sizes(const Image& a, const Image& ref, const char* what) {
     if (a.width != ref.width || a.height != ref.height || a.pixels.size() != ref.pixels.size())
         throw Error(fmt::format("{}: image sizes differ ({}x{} vs {}x{})", what, a.width, a.height,
@@ -28,7 +26,7 @@ void check_mask(const Image& ref, const PixelMask& m, const char* what) {
 
 // sqrt(num / den) with the conventions of relative_rmse for empty sums.
 double ratio_root(double num, double den) {
-    return den > 0.0 ? std::sqrt(num / den) : (num > 0.0 ? kMetricInf : 0.0);
+    return den > 0.0 ? std::sqrt(num / den) : (num > 0.0 ? kInfinity : 0.0);
 }
 
 double rmse_over(const Image& a, const Image& ref, const PixelMask* where) {
@@ -83,7 +81,7 @@ Rgb mean_ratio(const Image& a, const Image& ref, const PixelMask& where) {
         }
     Rgb r;
     for (int c = 0; c < 3; ++c)
-        r[c] = sr[c] != 0.0 ? sa[c] / sr[c] : (sa[c] == 0.0 ? 1.0 : kMetricInf);
+        r[c] = sr[c] != 0.0 ? sa[c] / sr[c] : (sa[c] == 0.0 ? 1.0 : kInfinity);
     return r;
 }
 

@@ -15,9 +15,6 @@ namespace vlf {
 
 namespace {
 
-// Ray origin offset along the normal, normalised units (pathtrace.cpp gives the reasons).
-constexpr double kLightTracerEps = 1e-5;
-constexpr double kLightTracerInf = std::numeric_limits<double>::infinity();
 // Batches traced together before their splats are added (in batch order) to the image:
 // bounds the memory the splat lists hold.
 constexpr long long kBatchesPerRound = 64;
@@ -137,7 +134,7 @@ void LightTracer::connect(const View& v, const Vec3& x, const Vec3& n, const Rgb
                           std::vector<Splat>& out) const {
     const Vec3 to_eye = v.eye - x;
     const double d = glm::length(to_eye);
-    if (!(d > kLightTracerEps)) return;
+    if (!(d > kSurfaceOffset)) return;
     const Vec3 w = to_eye / d;
     const double cos_x = glm::dot(n, w);
     if (cos_x <= 0.0) return;  // the eye is behind the face: it sees the back
@@ -151,7 +148,7 @@ void LightTracer::connect(const View& v, const Vec3& x, const Vec3& n, const Rgb
     const double px = 0.5 * (a + 1.0) * v.width, py = 0.5 * (1.0 - b) * v.height;
     if (!(px >= 0.0 && px < v.width && py >= 0.0 && py < v.height)) return;
     const int ix = std::min(v.width - 1, int(px)), iy = std::min(v.height - 1, int(py));
-    if (m_caster.occluded(x + kLightTracerEps * n, w, 0.0, d - 2.0 * kLightTracerEps))
+    if (m_caster.occluded(x + kSurfaceOffset * n, w, 0.0, d - 2.0 * kSurfaceOffset))
         return;  // glass blocks too
     // The pixel's value is (1 / A_pix) times the integral of L over its area on the image
     // plane at distance 1, whose element is dA_plane = dw / cos^3 (Veach §10.2's W_e =
@@ -198,7 +195,7 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
     int mirrors = 0;
     for (int vertex = 0; vertex < kMaxPathVertices; ++vertex) {
         RayHit hit;
-        if (!m_caster.intersect(o, dir, 0.0, kLightTracerInf, hit)) break;
+        if (!m_caster.intersect(o, dir, 0.0, kInfinity, hit)) break;
         const Face& f = m_scene.faces[size_t(hit.face)];
         const Vec3& n = f.normal;
         if (glm::dot(dir, n) >= 0.0) break;  // the back of a face absorbs
@@ -206,7 +203,7 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
         beta *= glass_transmittance(m_scene, f, hit.t);
         if (m.dielectric) {
             const GlassStep g =
-                glass_scatter(m_scene, f, hit.point, dir, rng.uniform(), kLightTracerEps);
+                glass_scatter(m_scene, f, hit.point, dir, rng.uniform(), kSurfaceOffset);
             beta *= shading_normal_correction(-dir, g.dir, g.normal, n);
             dir = g.dir;
             o = g.origin;
@@ -231,7 +228,7 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
             ++mirrors;
             through_glass = through_glass || !f.vertex_normals.empty();
             dir = mirror_turn(m_scene, f, x, dir, beta);
-            o = x + kLightTracerEps * n;
+            o = x + kSurfaceOffset * n;
         } else {
             if (pd > 0.0) connect(view, x, n, power * beta * rho_d, out);
             if (pd + ps <= 0.0) break;
@@ -247,7 +244,7 @@ void LightTracer::trace(const View& view, long long particles, Pcg32& rng,
                 dir = mirror_turn(m_scene, f, x, dir, beta);
                 beta *= m.specular / (1.0 - p_diffuse);
             }
-            o = x + kLightTracerEps * n;
+            o = x + kSurfaceOffset * n;
         }
         if (vertex >= 3 && !russian_roulette(beta, rng)) break;
     }

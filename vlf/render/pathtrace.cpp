@@ -14,11 +14,6 @@ namespace vlf {
 
 namespace {
 
-// Offset of a ray origin from its surface along the normal, normalised units: well above
-// Embree's single-precision error (~1e-7 at |x| ~ 1), well below any feature of the scenes
-// (>= 1e-4).
-constexpr double kPathEps = 1e-5;
-
 uint64_t splitmix64(uint64_t& x) {
     uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -58,11 +53,11 @@ bool inside_face(const Face& f, const Vec3& p) {
     return true;
 }
 
-// Whether some vertex of face a lies in front of face b's plane (by more than kPathEps): a
+// Whether some vertex of face a lies in front of face b's plane (by more than kSurfaceOffset): a
 // necessary condition for light to go from one mirror to the other.
 bool partly_in_front(const Face& a, const Face& b) {
     return std::any_of(a.vertices.begin(), a.vertices.end(),
-                       [&](const Vec3& v) { return height(b, v) > kPathEps; });
+                       [&](const Vec3& v) { return height(b, v) > kSurfaceOffset; });
 }
 
 }  // namespace
@@ -134,8 +129,8 @@ PathTracer::PathTracer(const Scene& scene, const RayCaster& caster)
 bool PathTracer::segment_clear(const Vec3& o, const Vec3& y) const {
     const Vec3 to = y - o;
     const double dist = glm::length(to);
-    if (!(dist > kPathEps)) return true;
-    return !m_caster.occluded(o, to / dist, 0.0, dist - kPathEps);
+    if (!(dist > kSurfaceOffset)) return true;
+    return !m_caster.occluded(o, to / dist, 0.0, dist - kSurfaceOffset);
 }
 
 PathTracer::DeltaSource PathTracer::delta_source(const Light& light, Pcg32& rng) const {
@@ -201,11 +196,11 @@ Rgb PathTracer::delta_path(const DeltaSource& s, const Vec3& x, const Vec3& n, c
     if (cos_x <= 0.0) return Rgb(0.0);  // arrives at the back of x's face
     // Follow it mirror by mirror.
     Rgb weight(1.0);
-    Vec3 c = x, o = x + kPathEps * n;  // the path's current point, and it lifted off its face
+    Vec3 c = x, o = x + kSurfaceOffset * n;  // the path's current point, and it lifted off its face
     for (int i = 0; i < k; ++i) {
         const Face& f = m_scene.faces[chain[i]];
         const double h = height(f, c), toward = -glm::dot(w, f.normal);
-        if (h <= kPathEps || toward <= 0.0) return Rgb(0.0);  // behind f or leaving its plane
+        if (h <= kSurfaceOffset || toward <= 0.0) return Rgb(0.0);  // behind f or leaving its plane
         const double t = h / toward;
         if (t >= left) return Rgb(0.0);  // the source (image) lies before f's plane
         const Vec3 m = c + t * w;
@@ -213,7 +208,7 @@ Rgb PathTracer::delta_path(const DeltaSource& s, const Vec3& x, const Vec3& n, c
         weight *= m_scene.material_of(f).specular;
         left -= t;
         c = m;
-        o = m + kPathEps * f.normal;
+        o = m + kSurfaceOffset * f.normal;
         w += 2.0 * toward * f.normal;  // reflected
     }
     if (s.parallel) {  // a shadow ray to infinity: escaping = lit
@@ -263,10 +258,10 @@ Rgb PathTracer::direct(const Vec3& x, const Vec3& n, double bsdf_pdf_scale, Pcg3
     const Vec3 wn = w / d;
     const double cos_x = glm::dot(n, wn), cos_y = -glm::dot(lf.normal, wn);
     if (cos_x <= 0.0 || cos_y <= 0.0) return Rgb(0.0);  // behind x, or the emitter's back
-    const Vec3 o = x + kPathEps * n;
+    const Vec3 o = x + kSurfaceOffset * n;
     const Vec3 to = y - o;
     const double dist = glm::length(to);
-    if (m_caster.occluded(o, to / dist, 0.0, dist - kPathEps)) return Rgb(0.0);
+    if (m_caster.occluded(o, to / dist, 0.0, dist - kSurfaceOffset)) return Rgb(0.0);
     // MIS, power heuristic, against the Lambertian lobe that could have found y too.
     const double p_light = d2 / (cos_y * m_light_area);  // solid angle
     const double p_bsdf = bsdf_pdf_scale * cos_x / kPi;
@@ -291,7 +286,8 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
         const Material& m = m_scene.material_of(f);
         beta *= glass_transmittance(m_scene, f, hit.t);  // the segment ran inside glass
         if (m.dielectric) {  // Fresnel-chosen reflection or refraction; no NEE here
-            const GlassStep g = glass_scatter(m_scene, f, hit.point, dir, rng.uniform(), kPathEps);
+            const GlassStep g =
+                glass_scatter(m_scene, f, hit.point, dir, rng.uniform(), kSurfaceOffset);
             dir = g.dir;
             o = g.origin;
             bsdf_pdf = 0.0;  // a delta lobe: emission seen next counts in full
@@ -334,7 +330,7 @@ Rgb PathTracer::radiance(const Vec3& origin, const Vec3& dir_in, Pcg32& rng) con
             beta *= m.specular / (1.0 - p_diffuse);
             bsdf_pdf = 0.0;
         }
-        o = x + kPathEps * n;
+        o = x + kSurfaceOffset * n;
         if (vertex >= 3 && !russian_roulette(beta, rng)) break;
     }
     return L;

@@ -21,10 +21,6 @@ namespace vlf {
 
 namespace {
 
-// Ray origin offset along the normal after a mirror bounce (normalised units; see
-// pathtrace.cpp for the choice).
-constexpr double kRenderEps = 1e-5;
-constexpr double kRenderInf = std::numeric_limits<double>::infinity();
 // raytrace: a Fresnel split (glass) follows a branch only while its throughput, the product
 // of the R, 1 - R, mirror reflectances and absorption on the way from the eye, is at least
 // this in some channel. At glass's R = 0.04 that keeps the paths of up to two internal
@@ -145,14 +141,14 @@ struct Renderer::Impl {
 
     // `dir` unit; `depth` specular events so far; `weight` the throughput from the eye to o
     // (for the branch cut only); `medium` the glass the ray travels in, or null for air.
-    // A ray leaves a surface from kRenderEps off it (so as not to meet it again); the length it
+    // A ray leaves a surface from kSurfaceOffset off it (so as not to meet it again); the length it
     // travels through glass is taken from the surface point itself, `from`.
     Rgb trace(Vec3 o, Vec3 dir, int depth, int max_depth, Rgb weight, const Material* medium,
               Vec3 from) const {
         Rgb L(0.0), beta(1.0);
         for (;; ++depth) {
             RayHit hit;
-            if (!caster.intersect(o, dir, 0.0, kRenderInf, hit)) break;
+            if (!caster.intersect(o, dir, 0.0, kInfinity, hit)) break;
             const Face& f = scene.faces[hit.face];
             if (glm::dot(dir, f.normal) >= 0.0) break;  // back side: black
             const Material& m = scene.material_of(f);
@@ -165,8 +161,8 @@ struct Renderer::Impl {
             L += beta * diffuse_part(f, hit.point);
             if (!m.is_specular() || depth >= max_depth) break;
             const SpecularTurn turn = specular_turn(scene, f, hit.point, dir);
-            const Vec3 above = hit.point + kRenderEps * f.normal,
-                       below = hit.point - kRenderEps * f.normal;
+            const Vec3 above = hit.point + kSurfaceOffset * f.normal,
+                       below = hit.point - kSurfaceOffset * f.normal;
             if (!m.dielectric) {
                 beta *= m.specular;
                 o = above;
@@ -297,7 +293,7 @@ struct Renderer::Impl {
     // reads the same bake, the P^T of the diffuse faces it shows (docs/rendering.md).
     Rgb lookup_shade(const Vec3& eye, const Vec3& dir, bool rays_everywhere, int max_depth) const {
         RayHit hit;
-        if (!caster.intersect(eye, dir, 0.0, kRenderInf, hit)) return Rgb(0.0);
+        if (!caster.intersect(eye, dir, 0.0, kInfinity, hit)) return Rgb(0.0);
         const Face& f = scene.faces[hit.face];
         if (glm::dot(dir, f.normal) >= 0.0) return Rgb(0.0);  // back side: black
         const Material& m = scene.material_of(f);
@@ -397,7 +393,7 @@ Rgb Renderer::gather_radiance(const Vec3& origin, const Vec3& dir, int max_depth
                               bool* back) const {
     const Impl& r = *m_impl;
     RayHit hit;
-    if (!r.caster.intersect(origin, dir, 0.0, kRenderInf, hit)) return Rgb(0.0);
+    if (!r.caster.intersect(origin, dir, 0.0, kInfinity, hit)) return Rgb(0.0);
     const Face& f = m_bake.scene.faces[hit.face];
     if (glm::dot(dir, f.normal) >= 0.0) {
         if (back && f.twin < 0) *back = true;
@@ -429,8 +425,7 @@ PixelMask Renderer::emitter_mask(const Camera& camera, int width, int height, in
                 for (int i = 0; i < k && !seen; ++i) {
                     const Vec3 dir = cam.direction(x + (i + 0.5) / k, y + (j + 0.5) / k);
                     RayHit hit;
-                    if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kRenderInf, hit))
-                        continue;
+                    if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kInfinity, hit)) continue;
                     const Face& f = scene.faces[hit.face];
                     seen = glm::dot(dir, f.normal) < 0.0 && scene.material_of(f).is_emitter();
                 }
@@ -447,7 +442,7 @@ double Renderer::back_face_fraction(const Camera& camera, int n) const {
         for (int x = 0; x < n; ++x) {
             const Vec3 dir = cam.direction(x + 0.5, y + 0.5);
             RayHit hit;
-            if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kRenderInf, hit)) continue;
+            if (!m_impl->caster.intersect(cam.origin(), dir, 0.0, kInfinity, hit)) continue;
             const Face& f = m_bake.scene.faces[hit.face];
             if (glm::dot(dir, f.normal) >= 0.0 && f.twin < 0) ++backs;
         }

@@ -16,6 +16,11 @@
 
 namespace vlf {
 
+// How far off a surface the renderers start a ray cast from it, so as not to meet it again
+// (normalised units): well above Embree's single-precision error (~1e-7 at |x| ~ 1), well
+// below any feature of the scenes (>= 1e-4).
+inline constexpr double kSurfaceOffset = 1e-5;
+
 struct RayHit {
     int face = -1;    // hit face id, or -1
     double t = 0;     // ray parameter: point = origin + t * dir (units of |dir|)
