@@ -29,6 +29,7 @@
 #include <stb_image.h>
 
 #include <algorithm>
+#include <array>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstring>
@@ -97,12 +98,23 @@ bool is_gltf(const std::string& path) {
     return ext == ".gltf" || ext == ".glb";
 }
 
+// A glTF material's glass extensions (KHR_materials_transmission, _volume, _ior), with the
+// specification's defaults where the file leaves them out.
+struct GltfGlass {
+    double transmission = 0.0;  // transmissionFactor
+    double thickness = 0.0;     // thicknessFactor: 0 is thin-walled (no volume)
+    double ior = 1.5;
+    double attenuation_distance = std::numeric_limits<double>::infinity();  // file units
+    Rgb attenuation_color{1.0};
+};
+
 // What assimp 5.2 does not take from a glTF file, read from its JSON: each material's
-// KHR_materials_emissive_strength and each camera's vertical field of view (assimp stores
-// yfov x aspect as a horizontal half-angle). Empty when the JSON cannot be read (assimp
-// will already have said why).
+// KHR_materials_emissive_strength and glass extensions, and each camera's vertical field of
+// view (assimp stores yfov x aspect as a horizontal half-angle). Empty when the JSON cannot
+// be read (assimp will already have said why).
 struct GltfExtras {
     std::vector<double> emissive_strength;  // per material, 1 without the extension
+    std::vector<GltfGlass> glass;           // per material
     std::vector<double> yfov;               // per camera, radians; 0 when not perspective
 };
 
@@ -129,16 +141,49 @@ GltfExtras gltf_extras(const std::string& path) {
     if (j.is_discarded() || !j.is_object()) return out;
     for (const auto& m : j.value("materials", nlohmann::json::array())) {
         double strength = 1.0;
+        GltfGlass glass;
         if (m.is_object() && m.contains("extensions") && m["extensions"].is_object()) {
             const auto& e = m["extensions"];
-            if (e.contains("KHR_materials_emissive_strength") &&
-                e["KHR_materials_emissive_strength"].is_object())
-                strength = number(e["KHR_materials_emissive_strength"], "emissiveStrength", 1.0,
-                                  fmt::format("materials[{}].extensions."
-                                              "KHR_materials_emissive_strength",
-                                              out.emissive_strength.size()));
+            // The extension `name` of this material, when the file gives it as an object.
+            auto extension = [&](const char* name) -> const nlohmann::json* {
+                return e.contains(name) && e[name].is_object() ? &e[name] : nullptr;
+            };
+            auto place = [&](const char* name) {
+                return fmt::format("materials[{}].extensions.{}", out.emissive_strength.size(),
+                                   name);
+            };
+            if (const auto* x = extension("KHR_materials_emissive_strength"))
+                strength =
+                    number(*x, "emissiveStrength", 1.0, place("KHR_materials_emissive_strength"));
+            if (const auto* x = extension("KHR_materials_transmission"))
+                glass.transmission = std::min(
+                    number(*x, "transmissionFactor", 0.0, place("KHR_materials_transmission")),
+                    1.0);
+            if (const auto* x = extension("KHR_materials_ior"))
+                glass.ior = number(*x, "ior", 1.5, place("KHR_materials_ior"));
+            if (const auto* x = extension("KHR_materials_volume")) {
+                const std::string at = place("KHR_materials_volume");
+                glass.thickness = number(*x, "thicknessFactor", 0.0, at);
+                glass.attenuation_distance =
+                    number(*x, "attenuationDistance", glass.attenuation_distance, at);
+                if (x->contains("attenuationColor")) {
+                    const auto& c = (*x)["attenuationColor"];
+                    if (!c.is_array() || c.size() != 3)
+                        throw Error(
+                            fmt::format("{}: {}.attenuationColor: expected 3 numbers", path, at));
+                    for (int k = 0; k < 3; ++k) {
+                        if (!c[size_t(k)].is_number() ||
+                            !(c[size_t(k)].get<double>() >= 0 && c[size_t(k)].get<double>() <= 1))
+                            throw Error(fmt::format(
+                                "{}: {}.attenuationColor[{}]: expected a number in [0, 1]", path,
+                                at, k));
+                        glass.attenuation_color[k] = c[size_t(k)].get<double>();
+                    }
+                }
+            }
         }
         out.emissive_strength.push_back(strength);
+        out.glass.push_back(glass);
     }
     for (const auto& c : j.value("cameras", nlohmann::json::array())) {
         double yfov = 0.0;
@@ -154,9 +199,19 @@ std::string rgb_text(const Rgb& c) {
     return fmt::format("[{:.3g}, {:.3g}, {:.3g}]", c.x, c.y, c.z);
 }
 
-// Maps one assimp material (see the table at the top of the file).
-void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const std::string& dir,
-                  ImportedGroup& g) {
+// A dielectric of index `ior` named after the group's material.
+Material dielectric(const std::string& name, double ior) {
+    Material glass;
+    glass.name = name;
+    glass.dielectric = true;
+    glass.ior = ior;
+    return glass;
+}
+
+// Maps one assimp material (see the table at the top of the file); `ext` is a glTF
+// material's glass extensions.
+void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const GltfGlass& ext,
+                  const std::string& dir, ImportedGroup& g) {
     aiColor4D c;
     float x = 0.0f;
     int i = 0;
@@ -223,15 +278,43 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
                                 "0 is a mirror)",
                                 metallic, roughness));
         }
-        if (m.Get(AI_MATKEY_TRANSMISSION_FACTOR, x) == AI_SUCCESS && x > 0.0f) {
-            float ior = 1.5f;
-            m.Get(AI_MATKEY_REFRACTI, ior);
-            out.transmission = std::clamp(double(x), 0.0, 1.0);
-            if (std::isfinite(ior) && ior >= 1.0f) out.ior = ior;
-            note(
-                fmt::format("transmission {:.3g}, ior {:.3g} (kept in the material; not "
-                            "glass: map a scene dielectric material onto it with \"materials\")",
-                            x, ior));
+        if (ext.transmission > 0.0) {
+            out.transmission = ext.transmission;
+            out.ior = ext.ior;
+            if (ext.thickness <= 0.0) {
+                note(fmt::format(
+                    "transmission {:.3g}, ior {:.3g} (thin-walled: no KHR_materials_volume "
+                    "thickness; kept in the material, not glass: map a scene dielectric "
+                    "material onto it with \"materials\")",
+                    ext.transmission, ext.ior));
+            } else if (!(ext.ior > 1.0 && ext.ior <= 4.0)) {
+                note(
+                    fmt::format("transmission {:.3g} with ior {:.3g} (not glass: a dielectric's "
+                                "ior is in (1, 4])",
+                                ext.transmission, ext.ior));
+            } else {
+                // Solid glass (KHR_materials_volume): Beer-Lambert absorption from the
+                // attenuation colour reached at the attenuation distance, per file unit.
+                Material glass = dielectric(out.name, ext.ior);
+                for (int ch = 0; ch < 3; ++ch)
+                    if (std::isfinite(ext.attenuation_distance) && ext.attenuation_color[ch] < 1.0)
+                        glass.absorption[ch] =
+                            ext.attenuation_color[ch] > 0.0 && ext.attenuation_distance > 0.0
+                                ? -std::log(ext.attenuation_color[ch]) / ext.attenuation_distance
+                                : std::numeric_limits<double>::infinity();
+                g.glass = glass;
+                g.glass_what = fmt::format("transmission {:.3g} with a volume", ext.transmission);
+                if (ext.transmission < 1.0)
+                    g.glass_unrepresented.push_back(fmt::format(
+                        "the diffuse part of transmission {:.3g} (taken as clear glass)",
+                        ext.transmission));
+                if (roughness > 0.0)
+                    g.glass_unrepresented.push_back(
+                        fmt::format("roughness {:.3g} (taken as smooth glass)", roughness));
+                if (metallic > 0.0)
+                    g.glass_unrepresented.push_back(
+                        fmt::format("metallic {:.3g} (taken as glass)", metallic));
+            }
         }
     } else {
         out.diffuse = base;
@@ -250,8 +333,29 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const st
             note(fmt::format("a Phong highlight Ks = {} (only ideal mirrors: illum 3 or 5)",
                              rgb_text(ks)));
         }
-        if (has_illum && (i == 4 || i == 6 || i == 7 || i == 9))
-            note(fmt::format("illum {} (glass: map a scene dielectric material onto it)", i));
+        if (has_illum && (i == 4 || i == 6 || i == 7 || i == 9)) {
+            // Glass: the index is Ni, 1.5 where the file gives none above 1 (assimp's
+            // default is 1); Kd, Ks and Tf give way to Fresnel's reflection and refraction.
+            float ni = 1.0f;
+            m.Get(AI_MATKEY_REFRACTI, ni);
+            const bool ni_used = ni > 1.0f && ni <= 4.0f;
+            g.glass = dielectric(out.name, ni_used ? double(ni) : 1.5);
+            g.glass_what = fmt::format("illum {}", i);
+            if (!ni_used)
+                g.glass_unrepresented.push_back(
+                    fmt::format("Ni {:.3g} (not in (1, 4]: ior 1.5)", ni));
+            std::vector<std::string> parts;
+            if (base != Rgb(0.0)) parts.push_back("Kd = " + rgb_text(base));
+            if (ks != Rgb(0.0)) parts.push_back("Ks = " + rgb_text(ks));
+            if (m.Get(AI_MATKEY_COLOR_TRANSPARENT, c) == AI_SUCCESS && to_rgb(c) != Rgb(1.0))
+                parts.push_back("Tf = " + rgb_text(to_rgb(c)));
+            if (!parts.empty()) {
+                std::string list;
+                for (const std::string& p : parts) list += (list.empty() ? "" : ", ") + p;
+                g.glass_unrepresented.push_back(
+                    list + " (glass reflects and refracts by Fresnel's equations, clear)");
+            }
+        }
     }
 
     Rgb emission(0.0);
@@ -581,6 +685,62 @@ void orient(std::vector<ImportedGroup>& groups, const std::vector<Camera>& camer
     }
 }
 
+// Where a group's faces do not close up into solids: an edge (by its end points' exact
+// positions) that is not on exactly two faces, described in one phrase; nothing when closed.
+std::optional<std::string> open_edge_of(const ImportedMesh& mesh) {
+    using Key = std::array<double, 3>;
+    auto key = [&](int v) {
+        const Vec3& p = mesh.vertices[size_t(v)];
+        return Key{p.x, p.y, p.z};
+    };
+    std::map<std::pair<Key, Key>, int> edges;
+    for (const std::vector<int>& f : mesh.faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+            Key a = key(f[k]), b = key(f[(k + 1) % f.size()]);
+            if (b < a) std::swap(a, b);
+            ++edges[{a, b}];
+        }
+    for (const auto& [edge, faces] : edges)
+        if (faces != 2)
+            return fmt::format(
+                "the edge ({:.6g}, {:.6g}, {:.6g})-({:.6g}, {:.6g}, {:.6g}) is on "
+                "{} face(s), not 2",
+                edge.first[0], edge.first[1], edge.first[2], edge.second[0], edge.second[1],
+                edge.second[2], faces);
+    return std::nullopt;
+}
+
+// Makes each group's glass its material where the group's faces close up into solids (light
+// refracted in must meet the far side; the loader checks their winding and adds the inner
+// faces). Such a group is one-sided whatever the file says: its faces bound a solid. Where
+// they do not, or the material also emits, the mapped material stays and the reason is noted.
+void choose_glass(std::vector<ImportedGroup>& groups, std::vector<std::string>& notes) {
+    for (ImportedGroup& g : groups) {
+        if (!g.glass) continue;
+        std::optional<std::string> why;
+        if (g.material.is_emitter())
+            why = "the material also emits";
+        else if (const auto open = open_edge_of(g.mesh))
+            why = "its faces are not closed: " + *open;
+        if (why) {
+            g.unrepresented.push_back(
+                fmt::format("{} (glass; not made glass: {})", g.glass_what, *why));
+            continue;
+        }
+        notes.push_back(fmt::format(
+            "material '{}': {} made glass of ior {:.4g}{}", g.material_name, g.glass_what,
+            g.glass->ior,
+            g.glass->is_absorbing()
+                ? fmt::format(", absorption {} per file unit", rgb_text(g.glass->absorption))
+                : std::string()));
+        g.material = *g.glass;
+        g.unrepresented = g.glass_unrepresented;
+        g.two_sided = false;
+        g.texture = Texture{};
+        g.mesh.uvs.clear();
+    }
+}
+
 }  // namespace
 
 bool is_importable_scene_file(const std::string& path) {
@@ -624,7 +784,8 @@ ImportedScene import_scene_file(const std::string& path, const std::vector<Vec3>
         groups[k].material_name = m.Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length
                                       ? name.C_Str()
                                       : fmt::format("material#{}", k);
-        map_material(*scene, m, is_gltf(path), dir, groups[k]);
+        map_material(*scene, m, gltf, k < extras.glass.size() ? extras.glass[k] : GltfGlass{}, dir,
+                     groups[k]);
         const Rgb& e = groups[k].material.emission;
         if (!(std::max({e.x, e.y, e.z}) <= 1e20))
             throw Error(
@@ -645,6 +806,7 @@ ImportedScene import_scene_file(const std::string& path, const std::vector<Vec3>
             fmt::format("{} mesh(es) of points or lines", collect.skipped_primitives));
     out.cameras = cameras_of(*scene, gltf ? &extras : nullptr, out.left_out);
     out.lights = lights_of(*scene, path, gltf, out.left_out, out.notes);
+    choose_glass(out.groups, out.notes);
     orient(out.groups, out.cameras, out.lights, viewpoints, out.notes);
     return out;
 }

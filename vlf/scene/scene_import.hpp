@@ -1,13 +1,15 @@
 // scene_import.hpp — whole scenes from modelling tools' files (OBJ+MTL, glTF 2.0 / GLB, PLY,
 // FBX, COLLADA, ...) through assimp (issue 12). Geometry comes out in file units with the
 // file's node transforms applied (instances repeated), grouped by material; materials are
-// mapped onto VLF's (diffuse, ideal mirror, Lambertian emitter) and whatever cannot be
-// represented is listed per material so the caller reports it once. The file's point, spot
+// mapped onto VLF's (diffuse, ideal mirror, Lambertian emitter, and glass where the file's
+// glass is a closed solid) and whatever cannot be represented is listed per material so the
+// caller reports it once. The file's point, spot
 // and directional lights become VLF lights (light.hpp) with their strengths taken as they are
 // (glTF: 1 cd -> 1 W/sr, 1 lux -> 1 W per square unit). The scene loader turns the groups into
 // objects and adds the cameras and lights (scene_loader.cpp, object type "import").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,13 @@ struct ImportedGroup {
     Texture texture;
     // What the mapping could not represent, one phrase each ("a Phong highlight Ks = ...").
     std::vector<std::string> unrepresented;
+    // The file's glass (MTL illum 4, 6, 7 or 9; glTF transmission with a volume) as a
+    // dielectric, its absorption per file unit, and what that leaves out. import_scene_file
+    // makes it the material where the group's faces close up into solids (else `material`
+    // stays, and the reason is noted).
+    std::optional<Material> glass;
+    std::string glass_what;  // what made it glass ("illum 7", "transmission 1 with a volume")
+    std::vector<std::string> glass_unrepresented;
     // File units, node transforms applied; faces as in the file, except that faces of
     // one-sided materials are turned to face one way per part (winding.hpp; noted).
     ImportedMesh mesh;

@@ -570,6 +570,29 @@ struct Transform {
 
 // ================================ stage 3: load =========================================
 
+// An imported glass's absorption is per file unit: the object's scale makes it per user unit
+// (a non-uniform scale by the geometric mean of its factors, noted). Beyond the scene file's
+// bound of 1e6 per unit (an attenuation colour of 0) it is 1e6: opaque glass (noted).
+void glass_absorption_to_user_units(const ObjectDesc& o, ImportedGroup& g) {
+    Rgb& a = g.material.absorption;
+    if (a == Rgb(0.0)) return;
+    const double s = std::cbrt(o.scale.x * o.scale.y * o.scale.z);
+    if (o.scale.x != o.scale.y || o.scale.y != o.scale.z)
+        g.unrepresented.push_back(
+            fmt::format("absorption under a non-uniform scale (divided by the geometric mean "
+                        "{:.6g} of its factors)",
+                        s));
+    constexpr double kMostAbsorption = 1e6;  // validate_dielectric's bound
+    bool capped = false;
+    for (int c = 0; c < 3; ++c) {
+        a[c] /= s;
+        if (!(a[c] <= kMostAbsorption)) a[c] = kMostAbsorption, capped = true;
+    }
+    if (capped)
+        g.unrepresented.push_back(
+            "an absorption above 1e6 per unit (an attenuation colour of 0): 1e6, opaque");
+}
+
 // An import object becomes one object per material of its file (scene_import.hpp): the
 // file's materials join the scene's (or are overridden), its cameras and lights join the
 // scene's as "<name>/<camera>", "<name>/<light>", moved by the object's transform.
@@ -607,6 +630,7 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
             g.mesh.uvs.clear();
         } else {
             g.material.name = part.name;
+            if (g.material.dielectric) glass_absorption_to_user_units(o, g);
             if (g.texture.width > 0 && g.material.is_diffuse()) {
                 g.material.diffuse_texture = static_cast<int>(d.textures.size());
                 d.textures.push_back(std::move(g.texture));
