@@ -17,7 +17,8 @@ LINES = {0: 1, 2: 1, 3: 16}  # compression -> scanlines per chunk (NONE, ZIPS, Z
 
 def read_exr(path):
     data = open(path, "rb").read()
-    if data[:4] != b"\x76\x2f\x31\x01" or data[5] & 0x1E:  # magic; tiled/long/deep/multipart
+    # magic; tiled, deep or multipart (long attribute names, bit 0x04, are read as any)
+    if data[:4] != b"\x76\x2f\x31\x01" or data[5] & 0x1A:
         sys.exit(f"{path}: not a single-part scanline EXR")
     pos, attrs = 8, {}
     while data[pos] != 0:

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package VLF needs to build, test and benchmark.
 # Idempotent: a second run installs nothing new. Must run as root (or through sudo).
+# --bench adds Blender (Debian's 3.4, Cycles on the CPU), the independent renderer that
+# bench/blender_compare.sh compares VLF with; `make` and `make test` do not need it.
 set -euo pipefail
 
 packages=(
@@ -13,6 +15,12 @@ packages=(
   openexr gnuplot-nox python3 python3-jsonschema linux-perf heaptrack
   libopenmpi-dev openmpi-bin
 )
+for arg in "$@"; do
+  case $arg in
+    --bench) packages+=(blender) ;;
+    *) echo "install-deps: unknown option '$arg' (known: --bench)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

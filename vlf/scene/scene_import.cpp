@@ -314,6 +314,11 @@ void map_material(const aiScene& scene, const aiMaterial& m, bool gltf, const Gl
                 if (metallic > 0.0)
                     g.glass_unrepresented.push_back(
                         fmt::format("metallic {:.3g} (taken as glass)", metallic));
+                if (base != Rgb(1.0))
+                    g.glass_unrepresented.push_back(fmt::format(
+                        "base colour {} (the glass's surface does not tint; its volume's "
+                        "attenuation does)",
+                        rgb_text(base)));
             }
         }
     } else {

@@ -1,0 +1,246 @@
+# blender_reference.py — renders a scene exported by vlf_export_scene (bench/export_scene.cpp)
+# with Blender's Cycles, an independent path tracer, as a linear EXR to compare with VLF's
+# images (walkthrough --reference). Run by Blender:
+#   blender -b --factory-startup --python bench/blender_reference.py -- \
+#       SCENE.json OUT.exr [--camera NAME] [--size WxH] [--spp N] [--seed S]
+# The mapping (units as VLF's: radiance W m^-2 sr^-1, one Blender unit = one scene unit):
+#   diffuse rho_d        Diffuse BSDF of colour rho_d
+#   mirror rho_s         Glossy BSDF, sharp, of colour rho_s (no Fresnel: an ideal mirror)
+#   emission L_e         Emission of colour L_e, strength 1 (radiance L_e)
+#   one-sided faces      black from behind (a Mix by Backfacing), as VLF's backs absorb
+#   dielectric n, sigma  Glass BSDF, sharp, IOR n; Volume Absorption of density max(sigma)
+#                        and colour 1 - sigma / max(sigma) (Cycles absorbs density x
+#                        (1 - colour) per unit length)
+#   point light I        Point light of power 4 pi I, radius 0 (Cycles' point light sends
+#                        power / (4 pi) per steradian; bench/blender_point_check.json checks it)
+#   directional E        Sun of strength E, angle = the angular diameter
+#   spot lights          refused: Cycles' spot falloff is not VLF's smoothstep in cos theta
+# No clamping, no glossy blur, no denoising, 1-pixel box filter (a pixel's mean, as VLF's
+# images are), bounces up to 256 of every kind, the world black, the view transform
+# 'Standard' (the EXR holds scene-linear values).
+import json
+import math
+import os
+import sys
+
+import bpy
+from mathutils import Matrix, Vector
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    if len(argv) < 2:
+        sys.exit("usage: blender -b --python blender_reference.py -- SCENE.json OUT.exr "
+                 "[--camera NAME] [--size WxH] [--spp N] [--seed S]")
+    opts = {"scene": argv[0], "out": argv[1], "camera": None, "size": (128, 128), "spp": 1024,
+            "seed": 0}
+    rest = argv[2:]
+    while rest:
+        key = rest.pop(0)
+        if not rest:
+            sys.exit(f"{key}: needs a value")
+        value = rest.pop(0)
+        if key == "--camera":
+            opts["camera"] = value
+        elif key == "--size":
+            w, h = value.lower().split("x")
+            opts["size"] = (int(w), int(h))
+        elif key == "--spp":
+            opts["spp"] = int(value)
+        elif key == "--seed":
+            opts["seed"] = int(value)
+        else:
+            sys.exit(f"{key}: unknown option")
+    return opts
+
+
+def node_material(name, m, one_sided):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    if m["dielectric"]:
+        glass = nt.nodes.new("ShaderNodeBsdfGlass")
+        glass.distribution = "SHARP"
+        glass.inputs["Color"].default_value = (1, 1, 1, 1)
+        glass.inputs["IOR"].default_value = m["ior"]
+        nt.links.new(glass.outputs[0], out.inputs["Surface"])
+        sigma = m["absorption"]
+        top = max(sigma)
+        if top > 0:
+            vol = nt.nodes.new("ShaderNodeVolumeAbsorption")
+            vol.inputs["Density"].default_value = top
+            vol.inputs["Color"].default_value = tuple(1 - s / top for s in sigma) + (1,)
+            nt.links.new(vol.outputs[0], out.inputs["Volume"])
+        return mat
+    shader = None
+
+    def add(s):
+        nonlocal shader
+        if shader is None:
+            shader = s
+        else:
+            a = nt.nodes.new("ShaderNodeAddShader")
+            nt.links.new(shader.outputs[0], a.inputs[0])
+            nt.links.new(s.outputs[0], a.inputs[1])
+            shader = a
+
+    if max(m["diffuse"]) > 0:
+        d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = tuple(m["diffuse"]) + (1,)
+        d.inputs["Roughness"].default_value = 0.0
+        add(d)
+    if max(m["specular"]) > 0:
+        g = nt.nodes.new("ShaderNodeBsdfGlossy")
+        g.distribution = "SHARP"
+        g.inputs["Color"].default_value = tuple(m["specular"]) + (1,)
+        add(g)
+    if max(m["emission"]) > 0:
+        e = nt.nodes.new("ShaderNodeEmission")
+        e.inputs["Color"].default_value = tuple(m["emission"]) + (1,)
+        e.inputs["Strength"].default_value = 1.0
+        add(e)
+    if shader is None:  # black
+        d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = (0, 0, 0, 1)
+        shader = d
+    if one_sided:
+        black = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        black.inputs["Color"].default_value = (0, 0, 0, 1)
+        geo = nt.nodes.new("ShaderNodeNewGeometry")
+        mix = nt.nodes.new("ShaderNodeMixShader")
+        nt.links.new(geo.outputs["Backfacing"], mix.inputs["Fac"])
+        nt.links.new(shader.outputs[0], mix.inputs[1])
+        nt.links.new(black.outputs[0], mix.inputs[2])
+        shader = mix
+    nt.links.new(shader.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def look_matrix(eye, target, up):
+    eye, target, up = Vector(eye), Vector(target), Vector(up)
+    z = (eye - target).normalized()  # a Blender camera looks along its -Z
+    x = up.cross(z).normalized()
+    y = z.cross(x)
+    return Matrix(((x.x, y.x, z.x, eye.x), (x.y, y.y, z.y, eye.y), (x.z, y.z, z.z, eye.z),
+                   (0, 0, 0, 1)))
+
+
+def main():
+    opts = parse_args()
+    with open(opts["scene"]) as f:
+        scene_json = json.load(f)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+
+    materials = {}
+    for obj in scene_json.get("objects", []):
+        key = (obj["material"], obj["two_sided"])
+        if key not in materials:
+            m = scene_json["materials"][obj["material"]]
+            materials[key] = node_material(f"{m['name']}#{len(materials)}", m,
+                                           one_sided=not obj["two_sided"])
+        mesh = bpy.data.meshes.new(obj["name"])
+        mesh.from_pydata([tuple(v) for v in obj["vertices"]], [], obj["faces"])
+        mesh.update()
+        if "corner_normals" in obj:
+            mesh.use_auto_smooth = True
+            loop_normals = []
+            for poly in mesh.polygons:
+                corners = obj["corner_normals"][poly.index]
+                for k in range(poly.loop_total):
+                    loop_normals.append(tuple(corners[k]))
+            for poly in mesh.polygons:
+                poly.use_smooth = True
+            mesh.normals_split_custom_set(loop_normals)
+        mesh.materials.append(materials[key])
+        ob = bpy.data.objects.new(obj["name"], mesh)
+        scene.collection.objects.link(ob)
+
+    for light in scene_json.get("lights", []):
+        kind = light["type"]
+        if kind == "spot":
+            sys.exit(f"{opts['scene']}: light '{light['name']}': spot lights are not mapped "
+                     "(Cycles' spot falloff is not VLF's)")
+        if kind == "point":
+            data = bpy.data.lights.new(light["name"], "POINT")
+            top = max(light["intensity"])
+            data.energy = 4 * math.pi * top
+            data.color = tuple(i / top for i in light["intensity"]) if top > 0 else (0, 0, 0)
+            data.shadow_soft_size = 0.0
+            ob = bpy.data.objects.new(light["name"], data)
+            ob.location = light["position"]
+        else:
+            data = bpy.data.lights.new(light["name"], "SUN")
+            top = max(light["irradiance"])
+            data.energy = top
+            data.color = tuple(e / top for e in light["irradiance"]) if top > 0 else (0, 0, 0)
+            data.angle = math.radians(light["angular_diameter_deg"])
+            ob = bpy.data.objects.new(light["name"], data)
+            d = Vector(light["direction"]).normalized()
+            ob.rotation_mode = "QUATERNION"
+            ob.rotation_quaternion = (-d).to_track_quat("Z", "Y")  # a sun shines along -Z
+        scene.collection.objects.link(ob)
+
+    cams = scene_json.get("cameras", [])
+    if not cams:
+        sys.exit(f"{opts['scene']}: no camera")
+    cam = cams[0] if opts["camera"] is None else next(
+        (c for c in cams if c["name"] == opts["camera"]), None)
+    if cam is None:
+        sys.exit(f"{opts['scene']}: no camera '{opts['camera']}'")
+    cdata = bpy.data.cameras.new("camera")
+    cdata.sensor_fit = "VERTICAL"
+    cdata.angle_y = math.radians(cam["fov_y_deg"])
+    cdata.clip_start = 1e-4
+    cdata.clip_end = 1e7
+    cob = bpy.data.objects.new("camera", cdata)
+    cob.matrix_world = look_matrix(cam["eye"], cam["look_at"], cam["up"])
+    scene.collection.objects.link(cob)
+    scene.camera = cob
+
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    scene.world = world
+
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device = "CPU"
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = os.cpu_count() or 1
+    c.samples = opts["spp"]
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.seed = opts["seed"]
+    c.max_bounces = 256
+    c.diffuse_bounces = 256
+    c.glossy_bounces = 256
+    c.transmission_bounces = 256
+    c.transparent_max_bounces = 256
+    c.volume_bounces = 256
+    c.sample_clamp_direct = 0.0
+    c.sample_clamp_indirect = 0.0
+    c.blur_glossy = 0.0
+    c.caustics_reflective = True
+    c.caustics_refractive = True
+    c.pixel_filter_type = "BOX"
+    c.filter_width = 1.0
+    scene.render.resolution_x, scene.render.resolution_y = opts["size"]
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.render.filepath = opts["out"]
+    scene.render.use_file_extension = False
+    bpy.ops.render.render(write_still=True)
+
+
+main()
