@@ -219,6 +219,32 @@ TEST(SceneImport, MtlGlassThatIsNotClosedStaysAndIsNoted) {
     EXPECT_TRUE(has_note(s, "illum 7 (glass; not made glass: its faces are not closed: the edge "));
 }
 
+// Glass that is closed in the file only through a zero-area triangle (a T-junction on an
+// edge, closed by a sliver): the loader drops the sliver, the cube opens, and the file's
+// other material is taken, with a note, instead of a load error.
+TEST(SceneImport, MtlGlassThatOpensWhenRepairedFallsBack) {
+    TempDir dir("sliver-glass");
+    dir.write("sliver.mtl",
+              "newmtl glass\nKd 0.3 0.3 0.3\nNi 1.5\nillum 7\n"
+              "newmtl lamp\nKd 0 0 0\nKe 5 5 5\n");
+    const std::string file = dir.write(
+        "sliver.obj",
+        "mtllib sliver.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
+        "v 0 1 1\nv 0.5 0 0\nv 0 3 0\nv 1 3 0\nv 1 3 1\nusemtl glass\n"
+        "f 1 4 3\nf 1 3 9\nf 9 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n"
+        "f 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\nf 1 9 2\nusemtl lamp\nf 10 11 12\n");
+    const Scene s = load_scene(file);
+    const Material& m =
+        s.materials[size_t(s.faces[size_t(object_named(s, "sliver/glass").first_face)].material)];
+    EXPECT_FALSE(m.dielectric);
+    expect_rgb(m.diffuse, {0.3, 0.3, 0.3});
+    EXPECT_TRUE(has_note(s, "material 'glass': illum 7 made glass of ior 1.5"));
+    EXPECT_TRUE(has_note(s,
+                         "sliver.obj: material 'glass': not made glass after all: its faces "
+                         "are not closed once repaired"));
+    EXPECT_EQ(object_named(s, "sliver/glass").face_count, 13);  // one-sided, the sliver dropped
+}
+
 // A closed cube of MTL glass imports as the scene file's own dielectric on the same mesh: the
 // same light on every texel of the room after three cycles, to rounding (1e-9 of the
 // brightest texel: the two loaders' vertices round apart by about 1e-13; a wrong index,

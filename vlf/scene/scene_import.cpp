@@ -738,6 +738,7 @@ void choose_glass(std::vector<ImportedGroup>& groups, std::vector<std::string>& 
             g.glass->is_absorbing()
                 ? fmt::format(", absorption {} per file unit", rgb_text(g.glass->absorption))
                 : std::string()));
+        g.not_glass = g.material;
         g.material = *g.glass;
         g.unrepresented = g.glass_unrepresented;
         g.two_sided = false;

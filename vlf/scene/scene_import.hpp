@@ -38,6 +38,9 @@ struct ImportedGroup {
     std::optional<Material> glass;
     std::string glass_what;  // what made it glass ("illum 7", "transmission 1 with a volume")
     std::vector<std::string> glass_unrepresented;
+    // Where the glass was made the material: the material it replaced, which the loader
+    // falls back to if the faces come apart when it drops degenerate or repeated ones.
+    std::optional<Material> not_glass;
     // File units, node transforms applied; faces as in the file, except that faces of
     // one-sided materials are turned to face one way per part (winding.hpp; noted).
     ImportedMesh mesh;

@@ -123,6 +123,10 @@ struct ObjectDesc {
     std::vector<std::pair<std::string, int>> material_overrides;  // import: "materials"
     std::string overrides_place;                                  // import: "objects[i].materials"
     int source_object = 0;  // after the imports are expanded: the JSON object it came from
+    // An imported file's glass (scene_import.hpp): the file's material it replaced, taken
+    // instead where the faces are not closed once degenerate or repeated ones are dropped.
+    std::optional<Material> glass_fallback;
+    std::string glass_source;  // "<file>: material '<name>'", for the note
 };
 
 struct SceneDescription {
@@ -639,6 +643,11 @@ void expand_import(SceneDescription& d, const ObjectDesc& o, ImportedScene&& imp
             }
             part.material = static_cast<int>(d.materials.size());
             d.materials.push_back(g.material);
+            if (g.material.dielectric && g.not_glass) {
+                part.glass_fallback = *g.not_glass;
+                part.glass_fallback->name = part.name;
+                part.glass_source = fmt::format("{}: material '{}'", o.file, g.material_name);
+            }
             if (!g.unrepresented.empty()) {
                 std::string what;
                 for (const std::string& u : g.unrepresented) what += (what.empty() ? "" : "; ") + u;
@@ -1054,8 +1063,8 @@ void add_objects(Scene& scene, const SceneDescription& d, const std::vector<Obje
     }
 }
 
-Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
-            const std::string& file, const LoadOptions& options) {
+Scene build(SceneDescription& d, const std::vector<ImportedMesh>& meshes, const std::string& file,
+            const LoadOptions& options) {
     Scene scene;
     scene.source = file;
     scene.units = d.units;
@@ -1074,7 +1083,7 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
     const double tol = kRelativeTolerance * diameter;
     std::vector<ObjectFaces> faces(d.objects.size());
     for (size_t i = 0; i < d.objects.size(); ++i) {
-        const ObjectDesc& o = d.objects[i];
+        ObjectDesc& o = d.objects[i];
         const bool glass = d.materials[size_t(o.material)].dielectric;
         faces[i] =
             checked_faces(o, raw[i], raw_normals[i], meshes[i], tol, file, scene.load_notes, glass);
@@ -1083,9 +1092,21 @@ Scene build(const SceneDescription& d, const std::vector<ImportedMesh>& meshes,
         const std::vector<Polygon> outer(
             faces[i].polygons.begin(),
             faces[i].polygons.begin() + std::ptrdiff_t(faces[i].polygons.size() / 2));
-        if (const auto why = open_edge(outer, tol))
+        const auto why = open_edge(outer, tol);
+        if (!why) continue;
+        if (!o.glass_fallback)
             fail(file, fmt::format("{} ({})", o.place, o.name),
                  "a dielectric object must be closed, its faces turned outward: " + *why);
+        // A model file's glass that came apart where faces were dropped or turned: the
+        // file's other material, as for glass that is open in the file (scene_import.cpp).
+        scene.load_notes.push_back(
+            fmt::format("{}: not made glass after all: its faces are not closed once repaired: {}",
+                        o.glass_source, *why));
+        o.material = static_cast<int>(d.materials.size());
+        d.materials.push_back(*o.glass_fallback);
+        scene.materials.push_back(*o.glass_fallback);
+        std::vector<std::string> again;  // (the repairs were noted the first time)
+        faces[i] = checked_faces(o, raw[i], raw_normals[i], meshes[i], tol, file, again, false);
     }
 
     const double half_diagonal = normalise(scene, faces, file);
