@@ -96,6 +96,42 @@ SlabForms slab_forms(double cos_i, double n, double d, double sigma) {
     return {(1.0 - R) * (1.0 - R) * a / q, R + (1.0 - R) * (1.0 - R) * R * a * a / q};
 }
 
+// The interface itself (core/fresnel.hpp) against closed forms: R = ((n - 1) / (n + 1))^2
+// at normal incidence; the same R for light crossing either way along a refracted pair
+// (Stokes reciprocity); total reflection beyond the critical angle; Snell's law and the
+// plane of incidence for the refracted direction; Brewster's angle, where the p
+// reflectance vanishes (R = R_s / 2).
+TEST(Fresnel, ClosedFormsSnellAndReciprocity) {
+    for (const double n : {1.33, 1.5, 2.5}) {
+        const double r0 = (n - 1.0) / (n + 1.0);
+        EXPECT_NEAR(fresnel_dielectric(1.0, 1.0 / n), r0 * r0, 1e-15) << n;
+        EXPECT_NEAR(fresnel_dielectric(1.0, n), r0 * r0, 1e-15) << n;
+        const double critical = std::asin(1.0 / n);
+        EXPECT_EQ(fresnel_dielectric(std::cos(critical + 1e-6), n), 1.0) << n;
+        EXPECT_LT(fresnel_dielectric(std::cos(critical - 1e-3), n), 1.0) << n;
+        for (const double deg : {10.0, 30.0, 45.0, 60.0, 80.0}) {
+            const double ti = deg * kPi / 180.0;
+            const Vec3 normal(0.0, 0.0, 1.0);
+            const Vec3 travel(std::sin(ti), 0.0, -std::cos(ti));  // into the glass
+            Vec3 t;
+            ASSERT_TRUE(refract(travel, normal, 1.0 / n, t));
+            EXPECT_NEAR(glm::length(t), 1.0, 1e-12);
+            EXPECT_NEAR(t.y, 0.0, 1e-15);               // in the plane of incidence
+            EXPECT_NEAR(n * t.x, std::sin(ti), 1e-12);  // n_t sin_t = n_i sin_i
+            EXPECT_LT(t.z, 0.0);                        // on through the surface
+            const double cos_t = -t.z;
+            EXPECT_NEAR(fresnel_dielectric(std::cos(ti), 1.0 / n), fresnel_dielectric(cos_t, n),
+                        1e-12)
+                << n << " " << deg;
+        }
+        const double brewster = std::atan(n);
+        const double ci = std::cos(brewster),
+                     ct = std::sqrt(1.0 - std::pow(std::sin(brewster) / n, 2));
+        const double rs = (ci - n * ct) / (ci + n * ct);
+        EXPECT_NEAR(fresnel_dielectric(ci, 1.0 / n), 0.5 * rs * rs, 1e-12) << n;
+    }
+}
+
 // Normal incidence: the floor under the slab gets E T, with and without absorption; the
 // rest of the floor E; the ledger closes with the light reflected up booked as escaped.
 TEST(GlassTransport, SlabTransmittanceAtNormalIncidence) {

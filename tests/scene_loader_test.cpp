@@ -465,6 +465,36 @@ TEST(SceneBadInput, UnknownObjectKey) {
                  "cylinder, mesh, import)");
 }
 
+// Issue 14: glass is a closed solid whose faces turn outward, of an index in (1, 4], with
+// nothing but its Fresnel reflection: anything else is one line naming the place.
+TEST(SceneBadInput, DielectricObjectsAreClosedOutwardSolids) {
+    const std::string glass = R"({"glass": {"dielectric": {"ior": 1.5}},
+        "lamp": {"diffuse": [0.5, 0.5, 0.5], "emission": [1, 1, 1]}})";
+    expect_error(with_objects(kLamp + R"(, {"type": "polygon", "name": "pane", "material":
+                 "glass", "vertices": [[0,0,1],[1,0,1],[1,1,1],[0,1,1]]})",
+                              glass),
+                 "bad.json: objects[1] (pane): a dielectric object must be closed, its faces "
+                 "turned outward: edge ");
+    expect_error(with_objects(kLamp + R"(, {"type": "box", "name": "cube", "min": [0,0,1],
+                 "max": [1,1,2], "flip": true, "material": "glass"})",
+                              glass),
+                 "bad.json: objects[1] (cube): a dielectric object must be closed, its faces "
+                 "turned outward: its faces turn inward (they enclose a volume of -1");
+    // The same box turned outward loads, with an inner twin for each of its 12 faces.
+    const Scene s = load_scene_from_string(
+        with_objects(kLamp + R"(, {"type": "box", "name": "cube", "min": [0,0,1],
+                     "max": [1,1,2], "material": "glass"})",
+                     glass),
+        "good.json", kScenes);
+    EXPECT_EQ(test::object_named(s, "cube").face_count, 12);
+    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,1,1]},
+                 "glass": {"dielectric": {"ior": 0.9}}})"),
+                 "bad.json: materials.glass.dielectric.ior: must be in (1, 4] (got 0.9)");
+    expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,1,1]},
+                 "glass": {"diffuse": [0.5, 0.5, 0.5], "dielectric": {"ior": 1.5}}})"),
+                 "bad.json: materials.glass.diffuse: a dielectric material has no diffuse");
+}
+
 TEST(SceneBadInput, UnknownMaterialKey) {
     expect_error(with_objects(kLamp, R"({"lamp": {"emission": [1,1,1], "glossy": 0.5}})"),
                  "bad.json: materials.lamp.glossy: unknown key");

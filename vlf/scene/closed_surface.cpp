@@ -74,6 +74,18 @@ std::optional<std::string> open_edge(const std::vector<Polygon>& polygons, doubl
             return fmt::format("edge {} belongs to one face only (a hole, or a T-junction)",
                                where(a, b));
     }
+    // Closed and consistent: the faces turn outward when they enclose a positive volume
+    // (divergence theorem: V = 1/3 sum over faces of x.n A, each polygon fanned from its
+    // first corner).
+    double volume = 0.0;
+    for (const Polygon& p : polygons)
+        for (size_t k = 1; k + 1 < p.size(); ++k)
+            volume += glm::dot(p[0], glm::cross(p[k], p[k + 1])) / 6.0;
+    if (!(volume > 0.0))
+        return fmt::format(
+            "its faces turn inward (they enclose a volume of {:.6g}: a flipped box, or a mesh "
+            "wound the other way)",
+            volume);
     return std::nullopt;
 }
 
