@@ -6,7 +6,17 @@
 # The mapping (units as VLF's: radiance W m^-2 sr^-1, one Blender unit = one scene unit):
 #   diffuse rho_d        Diffuse BSDF of colour rho_d
 #   mirror rho_s         Glossy BSDF, sharp, of colour rho_s (no Fresnel: an ideal mirror)
-#   emission L_e         Emission of colour L_e, strength 1 (radiance L_e)
+#   emission L_e         on a one-sided object that is one planar rectangle (a lamp): a
+#                        Cycles area light of that rectangle (one-sided, Lambertian) of power
+#                        4 A max(L_e) and colour L_e / max(L_e), a millionth of the scene's
+#                        size in front of the object, which keeps the rest of its material
+#                        and shows L_e to camera rays only
+#                        (Cycles' area light of power P has radiance P / 4A: checked against
+#                        the closed form of a small lamp over a floor to 0.06 %);
+#                        otherwise Emission of colour L_e, strength 1 (radiance L_e), black
+#                        from behind by a Mix by Backfacing (in Cycles that emitter leaves
+#                        the walls near a ceiling lamp about 1 % darker than VLF and than
+#                        the area light, BENCHMARKS.md "Against Blender Cycles")
 #   one-sided faces      black from behind (a Mix by Backfacing), as VLF's backs absorb
 #   dielectric n, sigma  Glass BSDF, sharp, IOR n; Volume Absorption of density max(sigma)
 #                        and colour 1 - sigma / max(sigma) (Cycles absorbs density x
@@ -54,7 +64,9 @@ def parse_args():
     return opts
 
 
-def node_material(name, m, one_sided):
+def node_material(name, m, one_sided, camera_emission=None):
+    """The material's node tree; `camera_emission`: a radiance that only camera rays see
+    (a lamp whose light an area light sends: the camera sees the lamp, nothing else does)."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     nt = mat.node_tree
@@ -102,6 +114,13 @@ def node_material(name, m, one_sided):
         e.inputs["Color"].default_value = tuple(m["emission"]) + (1,)
         e.inputs["Strength"].default_value = 1.0
         add(e)
+    if camera_emission is not None:
+        e = nt.nodes.new("ShaderNodeEmission")
+        e.inputs["Color"].default_value = tuple(camera_emission) + (1,)
+        path = nt.nodes.new("ShaderNodeLightPath")
+        nt.links.new(path.outputs["Is Camera Ray"], e.inputs["Strength"])
+        add(e)
+        mat.cycles.sample_as_light = False  # its light is the area light's
     if shader is None:  # black
         d = nt.nodes.new("ShaderNodeBsdfDiffuse")
         d.inputs["Color"].default_value = (0, 0, 0, 1)
@@ -117,6 +136,72 @@ def node_material(name, m, one_sided):
         shader = mix
     nt.links.new(shader.outputs[0], out.inputs["Surface"])
     return mat
+
+
+def _sub(a, b):
+    return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _unit(a):
+    n = math.sqrt(_dot(a, a))
+    return [x / n for x in a]
+
+
+def rectangle_of(obj):
+    """(centre, u, v, normal, size_u, size_v) of the rectangle that the object's faces tile,
+    when they lie in one plane and fill their bounding rectangle there; else None. In double
+    precision (mathutils is single)."""
+    vs = obj["vertices"]
+    area_vector = [0.0, 0.0, 0.0]
+    for f in obj["faces"]:
+        for k in range(1, len(f) - 1):
+            c = _cross(_sub(vs[f[k]], vs[f[0]]), _sub(vs[f[k + 1]], vs[f[0]]))
+            area_vector = [area_vector[i] + c[i] / 2 for i in range(3)]
+    area = math.sqrt(_dot(area_vector, area_vector))
+    if area <= 0:
+        return None
+    normal = [x / area for x in area_vector]
+    first = obj["faces"][0]
+    u = _sub(vs[first[1]], vs[first[0]])
+    u = _unit(_sub(u, [normal[i] * _dot(u, normal) for i in range(3)]))
+    v = _cross(normal, u)
+    centre = [sum(p[i] for p in vs) / len(vs) for i in range(3)]
+    size = max(math.sqrt(_dot(_sub(p, centre), _sub(p, centre))) for p in vs)
+    if any(abs(_dot(_sub(p, centre), normal)) > 1e-9 * size for p in vs):
+        return None
+    us = [_dot(_sub(p, centre), u) for p in vs]
+    ws = [_dot(_sub(p, centre), v) for p in vs]
+    su, sv = max(us) - min(us), max(ws) - min(ws)
+    if abs(su * sv - area) > 1e-9 * area:
+        return None
+    mu, mw = (max(us) + min(us)) / 2, (max(ws) + min(ws)) / 2
+    middle = [centre[i] + u[i] * mu + v[i] * mw for i in range(3)]
+    return Vector(middle), Vector(u), Vector(v), Vector(normal), su, sv
+
+
+def area_light(name, rect, emission, offset):
+    """A Cycles area light on `rect` (rectangle_of) of radiance `emission`, `offset` in front."""
+    centre, u, v, normal, su, sv = rect
+    top = max(emission)
+    data = bpy.data.lights.new(name, "AREA")
+    data.shape = "RECTANGLE"
+    data.size, data.size_y = su, sv
+    data.energy = 4.0 * su * sv * top  # Cycles: radiance = power / (4 A)
+    data.color = tuple(e / top for e in emission)
+    ob = bpy.data.objects.new(name, data)
+    # An area light shines along its local -Z.
+    basis = Matrix(((u.x, v.x, -normal.x, 0), (u.y, v.y, -normal.y, 0),
+                    (u.z, v.z, -normal.z, 0), (0, 0, 0, 1)))
+    ob.matrix_world = Matrix.Translation(centre + normal * offset) @ basis
+    return ob
 
 
 def look_matrix(eye, target, up):
@@ -135,13 +220,26 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
 
+    points = [v for obj in scene_json.get("objects", []) for v in obj["vertices"]]
+    extent = max(math.dist(p, points[0]) for p in points) if points else 1.0
     materials = {}
     for obj in scene_json.get("objects", []):
-        key = (obj["material"], obj["two_sided"])
+        m = scene_json["materials"][obj["material"]]
+        rect = None
+        if max(m["emission"]) > 0 and not obj["two_sided"] and not m["dielectric"]:
+            rect = rectangle_of(obj)
+        camera_emission = None
+        if rect is not None:
+            light = area_light(obj["name"] + " (area light)", rect, m["emission"],
+                               1e-6 * extent)
+            scene.collection.objects.link(light)
+            camera_emission = m["emission"]
+            m = dict(m, emission=[0.0, 0.0, 0.0])
+        key = (obj["material"], obj["two_sided"], rect is not None)
         if key not in materials:
-            m = scene_json["materials"][obj["material"]]
             materials[key] = node_material(f"{m['name']}#{len(materials)}", m,
-                                           one_sided=not obj["two_sided"])
+                                           one_sided=not obj["two_sided"],
+                                           camera_emission=camera_emission)
         mesh = bpy.data.meshes.new(obj["name"])
         mesh.from_pydata([tuple(v) for v in obj["vertices"]], [], obj["faces"])
         mesh.update()
