@@ -12,32 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "vlf/bake/scene_json.hpp"
 #include "vlf/core/error.hpp"
 #include "vlf/scene/scene_loader.hpp"
-
-namespace {
-
-nlohmann::json rgb(const vlf::Rgb& c) {
-    return {c.x, c.y, c.z};
-}
-
-nlohmann::json vec(const vlf::Vec3& v) {
-    return {v.x, v.y, v.z};
-}
-
-const char* light_type(vlf::LightType t) {
-    switch (t) {
-        case vlf::LightType::Point:
-            return "point";
-        case vlf::LightType::Spot:
-            return "spot";
-        case vlf::LightType::Directional:
-            return "directional";
-    }
-    return "unknown";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) try {
     if (argc != 3) {
@@ -45,20 +22,13 @@ int main(int argc, char** argv) try {
         return 2;
     }
     const vlf::Scene scene = vlf::load_scene(argv[1]);
-    nlohmann::json out;
+    // Materials, lights and cameras as the bundle's scene.json has them; the objects with
+    // their faces instead of face ranges.
+    nlohmann::json out = vlf::scene_to_json(scene);
     out["source"] = argv[1];
-    out["units"] = scene.units;
+    out["objects"] = nlohmann::json::array();
     bool textured = false;
-    for (const vlf::Material& m : scene.materials) {
-        textured = textured || m.diffuse_texture >= 0;
-        out["materials"].push_back({{"name", m.name},
-                                    {"diffuse", rgb(m.diffuse)},
-                                    {"specular", rgb(m.specular)},
-                                    {"emission", rgb(m.emission)},
-                                    {"dielectric", m.dielectric},
-                                    {"ior", m.ior},
-                                    {"absorption", rgb(m.absorption)}});
-    }
+    for (const vlf::Material& m : scene.materials) textured = textured || m.diffuse_texture >= 0;
     if (textured)
         std::fprintf(stderr,
                      "note: %s: diffuse textures are not exported (their materials' mean albedo "
@@ -80,9 +50,10 @@ int main(int argc, char** argv) try {
             nlohmann::json face = nlohmann::json::array(), corner_normals = nlohmann::json::array();
             for (size_t v = 0; v < f.vertices.size(); ++v) {
                 face.push_back(obj["vertices"].size());
-                obj["vertices"].push_back(vec(scene.normalisation.to_user(f.vertices[v])));
+                obj["vertices"].push_back(
+                    vlf::vec_json(scene.normalisation.to_user(f.vertices[v])));
                 corner_normals.push_back(
-                    vec(f.vertex_normals.empty() ? f.normal : f.vertex_normals[v]));
+                    vlf::vec_json(f.vertex_normals.empty() ? f.normal : f.vertex_normals[v]));
             }
             smooth = smooth || !f.vertex_normals.empty();
             faces.push_back(face);
@@ -95,24 +66,6 @@ int main(int argc, char** argv) try {
         if (smooth) obj["corner_normals"] = normals;
         out["objects"].push_back(obj);
     }
-    out["lights"] = nlohmann::json::array();
-    for (const vlf::Light& l : scene.lights)
-        out["lights"].push_back({{"name", l.name},
-                                 {"type", light_type(l.type)},
-                                 {"position", vec(l.position)},
-                                 {"direction", vec(l.direction)},
-                                 {"intensity", rgb(l.intensity)},
-                                 {"cos_inner", l.cos_inner},
-                                 {"cos_outer", l.cos_outer},
-                                 {"irradiance", rgb(l.irradiance)},
-                                 {"angular_diameter_deg", l.angular_diameter_deg}});
-    out["cameras"] = nlohmann::json::array();
-    for (const vlf::Camera& c : scene.cameras)
-        out["cameras"].push_back({{"name", c.name},
-                                  {"eye", vec(c.eye)},
-                                  {"look_at", vec(c.look_at)},
-                                  {"up", vec(c.up)},
-                                  {"fov_y_deg", c.fov_y_deg}});
     std::ofstream os(argv[2]);
     os << out.dump();
     if (!os) throw vlf::Error(std::string(argv[2]) + ": cannot be written");
