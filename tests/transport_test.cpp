@@ -619,8 +619,8 @@ TEST(TransportDeterminism, FirstCyclePowerMovesIntoTheArrivals) {
     for (int k = 0; k < 6; ++k) sources[0].power.push_back(Rgb(10.0 + k));
     for (int k = 0; k < 4; ++k) sources[1].power.push_back(Rgb(20.0 + k));
     power_to_arrivals(surfaces, sources, arrivals);
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(arrivals.power[size_t(k)], Rgb(20.0 + k));
-    for (int k = 0; k < 6; ++k) EXPECT_EQ(arrivals.power[size_t(4 + k)], Rgb(10.0 + k));
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(arrivals.power[size_t(k)].rgb, Rgb(20.0 + k));
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(arrivals.power[size_t(4 + k)].rgb, Rgb(10.0 + k));
     EXPECT_EQ(sources[0].power.capacity(), 0u);
     EXPECT_EQ(sources[1].power.capacity(), 0u);
     sources[0].power.assign(6, Rgb(1.0));

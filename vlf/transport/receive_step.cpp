@@ -159,13 +159,13 @@ void collect_surface_power(const PassContext& pc, const PassDirection& pd, size_
     const int s = pc.faces[f].surface;
     const int side = (pc.rotations[pd.d] * pc.faces[f].normal).z > 0 ? 0 : 1;
     const size_t slot = pc.surfaces.pass_slot(pd.d, s, side);
-    Rgb* at = arrivals.power.data() + arrivals.first[slot];
+    ArrivalPower* at = arrivals.power.data() + arrivals.first[slot];
     const uint64_t room = arrivals.first[slot + 1] - arrivals.first[slot];
     uint32_t& n = count[size_t(s) * 2 + size_t(side)];
     // A fragment's slots hold its rays in edge-table order, the order of the plan's rays.
     for_fragments(pd.g, frags, [&](const Tile&, const Fragment& fr, uint32_t base) {
         VLF_CHECK(n + fr.covered <= room);  // the plan was made from these very rays
-        std::copy_n(in.begin() + base, fr.covered, at + n);
+        for (uint32_t k = 0; k < fr.covered; ++k) at[n + k].rgb = in[base + k];
         n += fr.covered;
     });
 }

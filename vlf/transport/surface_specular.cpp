@@ -224,7 +224,7 @@ bool index_arrivals(const std::vector<SurfacePlan>& plans, SurfaceArrivals& arri
         arrivals = SurfaceArrivals{};
         return false;
     }
-    arrivals.power.assign(arrivals.first.back(), Rgb(0.0));
+    arrivals.power.assign(arrivals.first.back(), ArrivalPower{Rgb(0.0)});
     return true;
 }
 
@@ -234,13 +234,13 @@ void power_to_arrivals(const SmoothSurfaces& surfaces, std::vector<SurfaceSource
         const int d = from.frame.direction;
         const uint64_t b = arrivals.first[surfaces.pass_slot(d, 0, 0)];
         VLF_CHECK(from.power.size() == arrivals.first[surfaces.pass_slot(d + 1, 0, 0)] - b);
-        std::copy(from.power.begin(), from.power.end(), arrivals.power.begin() + int64_t(b));
+        for (size_t k = 0; k < from.power.size(); ++k) arrivals.power[b + k].rgb = from.power[k];
         std::vector<Rgb>().swap(from.power);
     }
 }
 
-void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost) {
-    for (const auto& [ray, part] : plan.lost) lost += power[ray] * part;
+void plan_losses(const SurfacePlan& plan, const ArrivalPower* power, Rgb& lost) {
+    for (const auto& [ray, part] : plan.lost) lost += power[ray].rgb * part;
 }
 
 int64_t SurfacePlan::bytes() const {
@@ -721,7 +721,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         // The power of a target's pixel: in the arrivals (kept plans), else in its source's.
         auto at = [&](uint32_t t, uint32_t e) -> const Rgb* {
             const uint32_t k = plan.pixels[plan.pixel_begin[t] + e].arrival;
-            return keep ? &arrivals->power[k] : &sources[source[t]].power[k];
+            return keep ? &arrivals->power[k].rgb : &sources[source[t]].power[k];
         };
         rounding[size_t(d - maps.first)] = run_plan(
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
@@ -751,7 +751,7 @@ std::vector<Rgb> gather_surface_arrivals(const Scene& scene, const DirectionSet&
         rounding[size_t(d - maps.first)] = run_plan(
             scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
             [&](uint32_t t, uint32_t e) {
-                return arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];
+                return arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival].rgb;
             },
             [&](uint32_t t, uint32_t e) -> const void* {
                 return &arrivals.power[plan.pixels[plan.pixel_begin[t] + e].arrival];

@@ -131,13 +131,18 @@ void make_surface_plan(const Scene& scene, const DirectionSet& dirs, const Smoot
 void apply_surface_plan(const SurfacePlan& plan, const std::vector<SurfaceRay>& rays, Rgb& lost,
                         SurfaceSources& out);
 
+// An arrival's power alone in half a cache line: the gathers read arrivals in no order, and
+// a 24-byte record straddles two lines at a third of the places, a second fetch each.
+struct alignas(32) ArrivalPower {
+    Rgb rgb;
+};
 // Where the power of the smooth surfaces' rays arrives once the plans are kept (the true
 // directions' pass of a single rank, from its second cycle on): per plan slot, its rays'
 // first index in `power`. The gathers read it through their kept plans instead of
 // sources.
 struct SurfaceArrivals {
     std::vector<uint64_t> first;  // per SurfacePlans slot, and one past the end
-    std::vector<Rgb> power;
+    std::vector<ArrivalPower> power;
     bool ready = false;  // the gathers' plans are kept and read `power`
 };
 // `first` from the plans' ray counts; false (and nothing kept) where they are more than a
@@ -149,7 +154,7 @@ void power_to_arrivals(const SmoothSurfaces& surfaces, std::vector<SurfaceSource
                        SurfaceArrivals& arrivals);
 // Adds to `lost` what of the power the plan's rays bring (`power`, in its rays' order) no PSF
 // can carry.
-void plan_losses(const SurfacePlan& plan, const Rgb* power, Rgb& lost);
+void plan_losses(const SurfacePlan& plan, const ArrivalPower* power, Rgb& lost);
 
 SurfaceFrame surface_frame(const Mat3& rotation, int N, int direction);
 

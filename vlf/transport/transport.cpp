@@ -81,7 +81,7 @@ int64_t Transport::memory_bytes() const {
 int64_t Transport::surface_plan_bytes() const {
     int64_t b = m_surface_rays.plan_bytes();
     b += int64_t(m_surface_plans.size() * sizeof(SurfacePlan) +
-                 m_arrivals.power.capacity() * sizeof(Rgb) +
+                 m_arrivals.power.capacity() * sizeof(ArrivalPower) +
                  m_arrivals.first.capacity() * sizeof(uint64_t));
     for (const SurfacePlan& p : m_surface_plans) b += p.bytes();
     return b;
