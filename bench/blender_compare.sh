@@ -9,10 +9,15 @@
 #   4. texture mode (16 x 16 rays per pixel, the reference's pixel footprint) and VLF's own
 #      path tracer (PT_SPP samples) against NAME-blender.exr: relative RMSE away from
 #      emitters and the mean ratio (walkthrough --reference); and the 8 x 8-block error map
-#      of the texture image (exr_compare.py map --block 8: low frequencies, not noise)
+#      of the texture image (exr_compare.py map --block 8: low frequencies, not noise), and
+#      the ratio tables per 16 x 16 block of the texture image and of Cycles' two seeds
 # Needs Blender (scripts/install-deps.sh --bench installs Debian's). Usage:
 #   bench/blender_compare.sh [-b BUILD] [-o OUTDIR (out/blender)] [-s SPP (4096)] [-j J (2)]
-#                            [-z WxH (128x128)] [-t PT_SPP (4096)] [-p PROPAGATE_ARGS] SCENE...
+#                            [-z WxH (128x128)] [-t PT_SPP (4096)] [-p PROPAGATE_ARGS]
+#                            [-c CYCLES_ARGS] SCENE...
+# CYCLES_ARGS go to blender_reference.py: "--shadow-caustics on" (Cycles' manifold next-event
+# estimation through glass for point lights) or "--point-radius R" (point lights as spheres
+# of radius R that paths through glass can hit).
 set -euo pipefail
 build=build
 out=out/blender
@@ -21,7 +26,8 @@ jobs=2
 size=128x128
 pt_spp=4096
 args="--quality preview"
-while getopts "b:o:s:j:z:t:p:" opt; do
+cycles_args=""
+while getopts "b:o:s:j:z:t:p:c:" opt; do
   case $opt in
     b) build=$OPTARG ;;
     o) out=$OPTARG ;;
@@ -30,6 +36,7 @@ while getopts "b:o:s:j:z:t:p:" opt; do
     z) size=$OPTARG ;;
     t) pt_spp=$OPTARG ;;
     p) args=$OPTARG ;;
+    c) cycles_args=$OPTARG ;;
     *) sed -n '2,/^set -euo/p' "$0" | sed '$d' >&2; exit 2 ;;
   esac
 done
@@ -49,9 +56,10 @@ for scene in "$@"; do
   start=$(date +%s.%N)
   parts=()
   for seed in $(seq 1 "$jobs"); do
+    # shellcheck disable=SC2086
     blender -b --factory-startup --python bench/blender_reference.py -- \
       "$out/$name-export.json" "$work/$name-blender-$seed.exr" --size "$size" --spp "$spp" \
-      --seed "$seed" > "$work/$name-blender-$seed.log" 2>&1 &
+      --seed "$seed" $cycles_args > "$work/$name-blender-$seed.log" 2>&1 &
     parts+=("$work/$name-blender-$seed.exr:$spp")
   done
   wait
@@ -60,6 +68,10 @@ for scene in "$@"; do
       { tail -5 "$work/$name-blender-$seed.log" >&2; exit 1; }
   done
   python3 bench/exr_compare.py mean "$out/$name-blender.exr" "${parts[@]}"
+  if [ "$jobs" -ge 2 ]; then
+    echo "cycles, seed 1 / seed 2 per 16 x 16 block (the reference's noise is about half this spread):"
+    python3 bench/exr_compare.py ratios "$work/$name-blender-1.exr" "$work/$name-blender-2.exr" --block 16
+  fi
   echo "cycles: $size, $jobs x $spp spp in $(echo "$(date +%s.%N) - $start" | bc) s"
   # shellcheck disable=SC2086
   "$build/propagate/propagate" "$scene" $args -q -o "$work/$name.vlf" --report "$out/$name-report.json"
@@ -71,4 +83,6 @@ for scene in "$@"; do
     grep -E "against|mean ratio" | sed 's/^/vlf path tracer: /'
   python3 bench/exr_compare.py map "$out/$name-texture.exr" "$out/$name-blender.exr" \
     "$out/$name-texture-map.png" --block 8 | sed 's/^/texture, 8x8 blocks: /'
+  echo "texture / cycles per 16 x 16 block:"
+  python3 bench/exr_compare.py ratios "$out/$name-texture.exr" "$out/$name-blender.exr" --block 16
 done

@@ -3,6 +3,7 @@
 # images (walkthrough --reference). Run by Blender:
 #   blender -b --factory-startup --python bench/blender_reference.py -- \
 #       SCENE.json OUT.exr [--camera NAME] [--size WxH] [--spp N] [--seed S]
+#       [--shadow-caustics on|off] [--point-radius R]
 # The mapping (units as VLF's: radiance W m^-2 sr^-1, one Blender unit = one scene unit):
 #   diffuse rho_d        Diffuse BSDF of colour rho_d
 #   mirror rho_s         Glossy BSDF, sharp, of colour rho_s (no Fresnel: an ideal mirror)
@@ -23,6 +24,13 @@
 #                        (1 - colour) per unit length)
 #   point light I        Point light of power 4 pi I, radius 0 (Cycles' point light sends
 #                        power / (4 pi) per steradian; bench/blender_point_check.json checks it)
+#                        or R (--point-radius: a small sphere that eye paths through glass can
+#                        hit, so Cycles' path tracing finds the caustic, noisily)
+#   --shadow-caustics on Cycles' manifold next-event estimation (MNEE, Blender 3.2+): glass
+#                        objects cast shadow caustics of point lights, the others receive them.
+#                        It finds one refracted path per sample (where several paths through
+#                        the glass reach a point it misses the others) and no reflection
+#                        off the glass, so it is a lower bound of the caustic
 #   directional E        Sun of strength E, angle = the angular diameter
 #   spot lights          refused: Cycles' spot falloff is not VLF's smoothstep in cos theta
 # No clamping, no glossy blur, no denoising, 1-pixel box filter (a pixel's mean, as VLF's
@@ -43,7 +51,7 @@ def parse_args():
         sys.exit("usage: blender -b --python blender_reference.py -- SCENE.json OUT.exr "
                  "[--camera NAME] [--size WxH] [--spp N] [--seed S]")
     opts = {"scene": argv[0], "out": argv[1], "camera": None, "size": (128, 128), "spp": 1024,
-            "seed": 0}
+            "seed": 0, "shadow_caustics": False, "point_radius": 0.0}
     rest = argv[2:]
     while rest:
         key = rest.pop(0)
@@ -59,6 +67,12 @@ def parse_args():
             opts["spp"] = int(value)
         elif key == "--seed":
             opts["seed"] = int(value)
+        elif key == "--shadow-caustics":
+            if value not in ("on", "off"):
+                sys.exit(f"--shadow-caustics: on or off, not '{value}'")
+            opts["shadow_caustics"] = value == "on"
+        elif key == "--point-radius":
+            opts["point_radius"] = float(value)
         else:
             sys.exit(f"{key}: unknown option")
     return opts
@@ -255,6 +269,9 @@ def main():
             mesh.normals_split_custom_set(loop_normals)
         mesh.materials.append(materials[key])
         ob = bpy.data.objects.new(obj["name"], mesh)
+        if opts["shadow_caustics"]:
+            ob.cycles.is_caustics_caster = bool(m["dielectric"])
+            ob.cycles.is_caustics_receiver = not m["dielectric"]
         scene.collection.objects.link(ob)
 
     for light in scene_json.get("lights", []):
@@ -267,7 +284,8 @@ def main():
             top = max(light["intensity"])
             data.energy = 4 * math.pi * top
             data.color = tuple(i / top for i in light["intensity"]) if top > 0 else (0, 0, 0)
-            data.shadow_soft_size = 0.0
+            data.shadow_soft_size = opts["point_radius"]
+            data.cycles.is_caustics_light = opts["shadow_caustics"]
             ob = bpy.data.objects.new(light["name"], data)
             ob.location = light["position"]
         else:

@@ -12,6 +12,9 @@ Python 3 standard library only; reads what bench/exr_to_png.py reads (walkthroug
       of both first (what remains is the error of the low frequencies, not the noise).
       Prints the relative RMSE of the whole image and of each quarter, and the error's share
       per horizontal band of the image (where the error is).
+  bench/exr_compare.py ratios IMAGE.exr REFERENCE.exr [--block B]
+      the table of image / reference per B x B block (default 16), the RGB sums of each
+      block's pixels: where a bake and a reference differ, beyond the noise of either.
   bench/exr_compare.py shrink IMAGE.exr OUT.exr --block B
       the mean of each B x B block of pixels, written as an uncompressed float EXR: a
       512 x 512 path-traced image at S spp becomes a 128 x 128 one (B 4) at 16 S spp,
@@ -139,6 +142,22 @@ def error_map(args):
         f.write(chunk(b"IDAT", zlib.compress(bytes(pixels), 9)) + chunk(b"IEND", b""))
 
 
+def ratios(args):
+    wa, ha, a = read_exr(args.image)
+    wb, hb, r = read_exr(args.reference)
+    if (wa, ha) != (wb, hb):
+        sys.exit(f"sizes differ: {wa}x{ha} and {wb}x{hb}")
+    w, h, a = blocks(wa, ha, a, args.block)
+    _, _, r = blocks(wb, hb, r, args.block)
+    for y in range(h):
+        row = []
+        for x in range(w):
+            i = y * w + x
+            num, den = sum(a[c][i] for c in range(3)), sum(r[c][i] for c in range(3))
+            row.append(f"{num / den:5.3f}" if den > 0 else "  -  ")
+        print(" ".join(row))
+
+
 def shrink(args):
     w, h, rgb = read_exr(args.image)
     if w % args.block or h % args.block:
@@ -158,12 +177,16 @@ def main():
     e.add_argument("output")
     e.add_argument("--scale", type=float, default=0.5)
     e.add_argument("--block", type=int, default=1)
+    q = sub.add_parser("ratios")
+    q.add_argument("image")
+    q.add_argument("reference")
+    q.add_argument("--block", type=int, default=16)
     k = sub.add_parser("shrink")
     k.add_argument("image")
     k.add_argument("output")
     k.add_argument("--block", type=int, required=True)
     args = ap.parse_args()
-    {"mean": mean, "map": error_map, "shrink": shrink}[args.cmd](args)
+    {"mean": mean, "map": error_map, "ratios": ratios, "shrink": shrink}[args.cmd](args)
 
 
 if __name__ == "__main__":
