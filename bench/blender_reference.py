@@ -24,15 +24,21 @@
 #                        (1 - colour) per unit length)
 #   point light I        Point light of power 4 pi I, radius 0 (Cycles' point light sends
 #                        power / (4 pi) per steradian; bench/blender_point_check.json checks it)
-#                        or R (--point-radius: a small sphere that eye paths through glass can
-#                        hit, so Cycles' path tracing finds the caustic, noisily)
+#                        or R (--point-radius: a small sphere that eye paths through glass or
+#                        mirrors can hit, so Cycles' path tracing finds the caustic, noisily;
+#                        hidden from the camera, but seen in mirrors and through glass, where
+#                        VLF shows no point light: a few bright pixels; Cycles 3.4's light
+#                        nodes cannot tell such a path from light sampling)
 #   --shadow-caustics on Cycles' manifold next-event estimation (MNEE, Blender 3.2+): glass
 #                        objects cast shadow caustics of point lights, the others receive them.
 #                        It finds one refracted path per sample (where several paths through
 #                        the glass reach a point it misses the others) and no reflection
 #                        off the glass, so it is a lower bound of the caustic
 #   directional E        Sun of strength E, angle = the angular diameter
-#   spot lights          refused: Cycles' spot falloff is not VLF's smoothstep in cos theta
+#   spot light I         the point light above, its strength VLF's falloff smoothstep(cos_outer,
+#                        cos_inner, cos theta) by light nodes (Cycles' spot lights multiply by
+#                        cos theta and blend in angle: not VLF's); bench/blender_spot_check.json
+#                        checks it
 # No clamping, no glossy blur, no denoising, 1-pixel box filter (a pixel's mean, as VLF's
 # images are), bounces up to 256 of every kind, the world black, the view transform
 # 'Standard' (the EXR holds scene-linear values).
@@ -218,6 +224,31 @@ def area_light(name, rect, emission, offset):
     return ob
 
 
+def spot_profile(data, light):
+    """VLF's spot falloff, smoothstep(cos_outer, cos_inner, cos theta), as the strength of
+    the point light `data`'s emission: cos theta is the light's local -Z (its axis) dotted
+    with the object-space direction to the lit point (the Normal of the light's texture
+    coordinates), smoothstepped by a Map Range node. (Cycles' own spot lights multiply by
+    cos theta and blend in angle; its IES node scales a profile by a factor of its own.)"""
+    data.use_nodes = True
+    nt = data.node_tree
+    coords = nt.nodes.new("ShaderNodeTexCoord")
+    dot = nt.nodes.new("ShaderNodeVectorMath")
+    dot.operation = "DOT_PRODUCT"
+    dot.inputs[1].default_value = (0.0, 0.0, -1.0)
+    nt.links.new(coords.outputs["Normal"], dot.inputs[0])
+    ramp = nt.nodes.new("ShaderNodeMapRange")
+    ramp.interpolation_type = "SMOOTHSTEP"
+    ramp.clamp = True
+    ramp.inputs["From Min"].default_value = light["cos_outer"]
+    ramp.inputs["From Max"].default_value = light["cos_inner"]
+    ramp.inputs["To Min"].default_value = 0.0
+    ramp.inputs["To Max"].default_value = 1.0
+    nt.links.new(dot.outputs["Value"], ramp.inputs["Value"])
+    emission = next(n for n in nt.nodes if n.type == "EMISSION")
+    nt.links.new(ramp.outputs["Result"], emission.inputs["Strength"])
+
+
 def look_matrix(eye, target, up):
     eye, target, up = Vector(eye), Vector(target), Vector(up)
     z = (eye - target).normalized()  # a Blender camera looks along its -Z
@@ -276,10 +307,7 @@ def main():
 
     for light in scene_json.get("lights", []):
         kind = light["type"]
-        if kind == "spot":
-            sys.exit(f"{opts['scene']}: light '{light['name']}': spot lights are not mapped "
-                     "(Cycles' spot falloff is not VLF's)")
-        if kind == "point":
+        if kind in ("point", "spot"):
             data = bpy.data.lights.new(light["name"], "POINT")
             top = max(light["intensity"])
             data.energy = 4 * math.pi * top
@@ -288,6 +316,12 @@ def main():
             data.cycles.is_caustics_light = opts["shadow_caustics"]
             ob = bpy.data.objects.new(light["name"], data)
             ob.location = light["position"]
+            ob.visible_camera = False  # VLF's point light is not seen
+            if kind == "spot":
+                spot_profile(data, light)
+                d = Vector(light["direction"]).normalized()
+                ob.rotation_mode = "QUATERNION"
+                ob.rotation_quaternion = (-d).to_track_quat("Z", "Y")  # its axis: local -Z
         else:
             data = bpy.data.lights.new(light["name"], "SUN")
             top = max(light["irradiance"])
