@@ -26,9 +26,9 @@
 #                        power / (4 pi) per steradian; bench/blender_point_check.json checks it)
 #                        or R (--point-radius: a small sphere that eye paths through glass or
 #                        mirrors can hit, so Cycles' path tracing finds the caustic, noisily;
-#                        hidden from the camera, but seen in mirrors and through glass, where
-#                        VLF shows no point light: a few bright pixels; Cycles 3.4's light
-#                        nodes cannot tell such a path from light sampling)
+#                        not seen by camera rays in Cycles 3.4, but seen in mirrors and
+#                        through glass, where VLF shows no point light: a few bright pixels;
+#                        Cycles 3.4's light nodes cannot tell such a path from light sampling)
 #   --shadow-caustics on Cycles' manifold next-event estimation (MNEE, Blender 3.2+): glass
 #                        objects cast shadow caustics of point lights, the others receive them.
 #                        It finds one refracted path per sample (where several paths through
@@ -79,6 +79,8 @@ def parse_args():
             opts["shadow_caustics"] = value == "on"
         elif key == "--point-radius":
             opts["point_radius"] = float(value)
+            if not opts["point_radius"] >= 0:
+                sys.exit(f"--point-radius: a radius of at least 0, not '{value}'")
         else:
             sys.exit(f"{key}: unknown option")
     return opts
@@ -316,7 +318,6 @@ def main():
             data.cycles.is_caustics_light = opts["shadow_caustics"]
             ob = bpy.data.objects.new(light["name"], data)
             ob.location = light["position"]
-            ob.visible_camera = False  # VLF's point light is not seen
             if kind == "spot":
                 spot_profile(data, light)
                 d = Vector(light["direction"]).normalized()

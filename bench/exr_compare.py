@@ -87,14 +87,20 @@ def blocks(width, height, rgb, b):
     return w, h, out
 
 
-def error_map(args):
-    wa, ha, a = read_exr(args.image)
-    wb, hb, r = read_exr(args.reference)
+def read_pair(image, reference, block):
+    """Both images (of one size), each averaged over block x block pixels when block > 1."""
+    wa, ha, a = read_exr(image)
+    wb, hb, r = read_exr(reference)
     if (wa, ha) != (wb, hb):
         sys.exit(f"sizes differ: {wa}x{ha} and {wb}x{hb}")
-    if args.block > 1:
-        wa, ha, a = blocks(wa, ha, a, args.block)
-        _, _, r = blocks(wb, hb, r, args.block)
+    if block > 1:
+        wa, ha, a = blocks(wa, ha, a, block)
+        _, _, r = blocks(wb, hb, r, block)
+    return wa, ha, a, r
+
+
+def error_map(args):
+    wa, ha, a, r = read_pair(args.image, args.reference, args.block)
     n = wa * ha
     d = [[a[c][i] - r[c][i] for i in range(n)] for c in range(3)]
     err = [math.sqrt(sum(d[c][i] ** 2 for c in range(3))) for i in range(n)]
@@ -143,12 +149,7 @@ def error_map(args):
 
 
 def ratios(args):
-    wa, ha, a = read_exr(args.image)
-    wb, hb, r = read_exr(args.reference)
-    if (wa, ha) != (wb, hb):
-        sys.exit(f"sizes differ: {wa}x{ha} and {wb}x{hb}")
-    w, h, a = blocks(wa, ha, a, args.block)
-    _, _, r = blocks(wb, hb, r, args.block)
+    w, h, a, r = read_pair(args.image, args.reference, args.block)
     for y in range(h):
         row = []
         for x in range(w):
