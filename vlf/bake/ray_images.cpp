@@ -86,6 +86,7 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
         const Face& f = scene.faces[size_t(specular ? spec.faces[a++] : other.faces[b++])];
         const RadianceMaps* maps = specular ? &spec : &other;
         const uint64_t begin = maps->begin(d, f.id), count = maps->count(d, f.id);
+        if (count == 0) continue;  // no ray here (most of a tessellated ball's faces)
         rasterise_face(f, transport.rotations()[d], N, m, raster);
         VLF_CHECK(raster.covered == count);
         if (resampler != nullptr && maps == &spec) resampler->face(d, f.id, raster);

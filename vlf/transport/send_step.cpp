@@ -228,6 +228,22 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
         a = b;
     }
     if (!pc.true_directions) return;
+    if (pc.s == 1) {
+        // The exchange grid is the N x N grid the coverage was measured on: a stored face
+        // with rays there is among the faces present here, and no sliver loses light. Only
+        // the faces present are visited (a direction holds a few of a tessellated ball's
+        // thousands of small faces; each face's rays are its own, so the order of the visits
+        // changes nothing).
+        for (size_t k = 0; k < g.faces.size(); ++k) {
+            const int f = int(g.faces[k]);
+            const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
+            if (pc.spec.stores(f))
+                store_rays(pc, pd, size_t(f), frags, pc.spec, true, w.out);
+            else if (pc.other.stores(f))
+                store_rays(pc, pd, size_t(f), frags, pc.other, false, w.out);
+        }
+        return;
+    }
     // Stored faces only (the other faces keep no directional maps): the mirrors, then with
     // --store-all-rays the rest, each in ascending order, as the faces present here are:
     // one walk finds each stored face's fragments.
