@@ -99,13 +99,15 @@ Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int r
 
 namespace {
 
-// The face's vertices projected along +z of the rotated frame; their y range in ymin, ymax.
-void project_face(const Face& face, const Mat3& rotation, std::vector<Vec2>& proj, double& ymin,
-                  double& ymax) {
+// The face's vertices projected along +z of the rotated frame; their x and y ranges.
+void project_face(const Face& face, const Mat3& rotation, std::vector<Vec2>& proj, double& xmin,
+                  double& xmax, double& ymin, double& ymax) {
     proj.clear();
     for (const Vec3& v : face.vertices) {
         const Vec3 p = rotation * v;
         proj.emplace_back(p.x, p.y);
+        xmin = std::min(xmin, p.x);
+        xmax = std::max(xmax, p.x);
         ymin = std::min(ymin, p.y);
         ymax = std::max(ymax, p.y);
     }
@@ -198,11 +200,17 @@ bool face_rows(const Face& face, const Mat3& rotation, int N, int& jlo, int& jhi
     thread_local std::vector<Vec2> proj;
     t_row_i0.resize(N);
     t_row_i1.resize(N);
-    double ymin = 1e300, ymax = -1e300;
-    project_face(face, rotation, proj, ymin, ymax);
+    double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+    project_face(face, rotation, proj, xmin, xmax, ymin, ymax);
     jlo = first_centre_at_or_after(ymin, N);
     jhi = first_centre_at_or_after(ymax, N);  // exclusive
     if (jlo >= jhi) return false;
+    // No column's centre near [xmin, xmax): every row's span would be empty (a facet smaller
+    // than a ray, as most of a tessellated ball's are, usually covers no centre). The margin
+    // covers an edge crossing that rounds an ulp past its end points.
+    constexpr double kMargin = 1e-9;
+    if (first_centre_at_or_after(xmin - kMargin, N) >= first_centre_at_or_after(xmax + kMargin, N))
+        return false;
     row_spans(proj, N, jlo, jhi, t_row_i0, t_row_i1);
     return true;
 }

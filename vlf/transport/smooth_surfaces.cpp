@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "vlf/core/error.hpp"
 #include "vlf/field/psf.hpp"
 #include "vlf/scene/smooth_groups.hpp"
 
@@ -28,15 +29,19 @@ SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs
     return s;
 }
 
-void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, int surface,
-                  const Mat3& rotation, const Vec3& omega, int N, int m, SurfaceRays& out) {
+void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, const RadianceMaps& maps,
+                  int surface, int d, const Mat3& rotation, const Vec3& omega, int N, int m,
+                  SurfaceRays& out) {
     out.rays.clear();
     FaceRaster fr;
     int imin = N, imax = -1, jmin = N, jmax = -1;
     for (int f : surfaces.faces[size_t(surface)]) {
         const Face& face = scene.faces[size_t(f)];
         if (glm::dot(face.normal, omega) <= 0.0) continue;
+        const uint64_t count = maps.count(d, f);
+        if (count == 0) continue;  // (most of a tessellated ball's faces, in any direction)
         rasterise_face(face, rotation, N, m, fr);
+        VLF_CHECK(fr.covered == count);
         uint32_t k = 0;
         for (const FaceFragment& ff : fr.fragments)
             fr.edge_table(ff).for_each_ray([&](int u, int v, int) {

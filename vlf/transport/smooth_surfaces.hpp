@@ -18,6 +18,7 @@
 #include "vlf/field/coverage.hpp"
 #include "vlf/field/direction_set.hpp"
 #include "vlf/field/psf.hpp"
+#include "vlf/field/radiance_maps.hpp"
 #include "vlf/scene/scene.hpp"
 
 namespace vlf {
@@ -72,9 +73,11 @@ inline Vec3 surface_ray_point(const Scene& scene, const Mat3& rotation, int N,
     return PlaneInPsf(scene.faces[size_t(r.face)], rotation, N).point(r.i, r.j);
 }
 
-// The rays of `surface` in PSF `rotation` whose faces show their front along `omega` (the
-// travel direction), on the N x N grid.
-void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, int surface,
-                  const Mat3& rotation, const Vec3& omega, int N, int m, SurfaceRays& out);
+// The rays of `surface` in PSF d (its `rotation`) whose faces show their front along
+// `omega` (the travel direction), on the N x N grid. `maps` stores the surface's faces (its
+// layout counts their rays in every direction): a face without rays in d is not rasterised.
+void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, const RadianceMaps& maps,
+                  int surface, int d, const Mat3& rotation, const Vec3& omega, int N, int m,
+                  SurfaceRays& out);
 
 }  // namespace vlf

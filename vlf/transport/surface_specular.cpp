@@ -600,12 +600,13 @@ void deposit(const std::vector<Rgb>& acc, const SurfaceRays& rays, int d, double
 // The rays of `surface` in direction d along `sense` (built the first time they are asked
 // for; only d's task asks for them).
 SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
-                     const Mat3& rot, int N, int m, int surface, int d, int sense,
-                     SurfaceRayCache& cache) {
+                     const RadianceMaps& maps, const Mat3& rot, int N, int m, int surface, int d,
+                     int sense, SurfaceRayCache& cache) {
     const size_t slot = surfaces.slot(surface, d, sense);
     SurfaceRays& rays = cache.rays[slot];
     if (!cache.built[slot]) {
-        surface_rays(scene, surfaces, surface, rot, dirs.direction(d) * double(sense), N, m, rays);
+        surface_rays(scene, surfaces, maps, surface, d, rot, dirs.direction(d) * double(sense), N,
+                     m, rays);
         cache.built[slot] = 1;
     }
     return rays;
@@ -632,10 +633,11 @@ Rgb run_plan(const Scene& scene, const SmoothSurfaces& surfaces, const SurfaceGa
         for (; t < group.end; ++t) {
             if (const uint32_t ta = t + kAhead; ta < targets)
                 for (uint32_t e = plan.pixel_begin[ta]; e < plan.pixel_begin[ta + 1]; ++e) {
-                    // (A power may straddle two cache lines: both are fetched.)
                     const char* at = static_cast<const char*>(ahead(ta, e - plan.pixel_begin[ta]));
                     __builtin_prefetch(at);
-                    __builtin_prefetch(at + sizeof(Rgb) - 1);
+                    // A source's power may straddle two cache lines (an arrival's never does).
+                    if ((reinterpret_cast<uintptr_t>(at) & 63u) > 64u - sizeof(Rgb))
+                        __builtin_prefetch(at + sizeof(Rgb) - 1);
                 }
             const uint32_t p0 = plan.pixel_begin[t];
             apply_target(
@@ -696,7 +698,7 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             if (n == 0) continue;
             const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
             const SurfaceRays& rays = *group_rays.emplace_back(
-                &rays_of(scene, dirs, surfaces, rot, N, m, surface, int(d), sense, cache));
+                &rays_of(scene, dirs, surfaces, maps, rot, N, m, surface, int(d), sense, cache));
             points.resize(rays.rays.size());
             for (size_t k = 0; k < rays.rays.size(); ++k)
                 points[k] = surface_ray_point(scene, rot, N, rays.rays[k]);
