@@ -194,7 +194,8 @@ void cut_tile_row(const std::vector<int>& row_i0, const std::vector<int>& row_i1
 }
 
 // The face's rows in this thread's t_row_i0/t_row_i1: rows [jlo, jhi) of an N x N grid
-// with their spans (row_spans); false when no ray centre row crosses the face.
+// with their spans (row_spans); false when the face covers no ray centre for certain (no
+// row's centre line or no column's centre line crosses its projection).
 thread_local std::vector<int> t_row_i0, t_row_i1;
 bool face_rows(const Face& face, const Mat3& rotation, int N, int& jlo, int& jhi) {
     thread_local std::vector<Vec2> proj;

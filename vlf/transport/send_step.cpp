@@ -234,6 +234,11 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
         // the faces present are visited (a direction holds a few of a tessellated ball's
         // thousands of small faces; each face's rays are its own, so the order of the visits
         // changes nothing).
+#ifndef NDEBUG
+        for (const int f : pc.spec.faces)  // (debug builds: no mirror with rays is missing)
+            VLF_CHECK(pc.coverage(pd.d, f) == 0 ||
+                      std::binary_search(g.faces.begin(), g.faces.end(), uint32_t(f)));
+#endif
         for (size_t k = 0; k < g.faces.size(); ++k) {
             const int f = int(g.faces[k]);
             const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
@@ -244,9 +249,9 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
         }
         return;
     }
-    // Stored faces only (the other faces keep no directional maps): the mirrors, then with
-    // --store-all-rays the rest, each in ascending order, as the faces present here are:
-    // one walk finds each stored face's fragments.
+    // Super-sampled: every stored face (the other faces keep no directional maps), the
+    // mirrors, then with --store-all-rays the rest, each in ascending order, as the faces
+    // present here are: one walk finds each stored face's fragments, or finds a sliver.
     for (const RadianceMaps* stored : {&pc.spec, &pc.other}) {
         size_t k = 0;
         for (const int f : stored->faces) {
@@ -259,10 +264,7 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
             }
             const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
             RadianceMaps& maps = spec_store ? pc.spec : pc.other;
-            if (pc.s == 1)
-                store_rays(pc, pd, size_t(f), frags, maps, spec_store, w.out);
-            else
-                store_rays_supersampled(pc, pd, size_t(f), frags, maps, spec_store, w, res.lost);
+            store_rays_supersampled(pc, pd, size_t(f), frags, maps, spec_store, w, res.lost);
         }
     }
 }
