@@ -228,43 +228,32 @@ void send_step(const PassContext& pc, const PassDirection& pd, Scratch& w, Chunk
         a = b;
     }
     if (!pc.true_directions) return;
-    if (pc.s == 1) {
-        // The exchange grid is the N x N grid the coverage was measured on: a stored face
-        // with rays there is among the faces present here, and no sliver loses light. Only
-        // the faces present are visited (a direction holds a few of a tessellated ball's
-        // thousands of small faces; each face's rays are its own, so the order of the visits
-        // changes nothing).
-#ifndef NDEBUG
-        for (const int f : pc.spec.faces)  // (debug builds: no mirror with rays is missing)
-            VLF_CHECK(pc.coverage(pd.d, f) == 0 ||
-                      std::binary_search(g.faces.begin(), g.faces.end(), uint32_t(f)));
-#endif
-        for (size_t k = 0; k < g.faces.size(); ++k) {
-            const int f = int(g.faces[k]);
-            const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
-            if (pc.spec.stores(f))
-                store_rays(pc, pd, size_t(f), frags, pc.spec, true, w.out);
-            else if (pc.other.stores(f))
-                store_rays(pc, pd, size_t(f), frags, pc.other, false, w.out);
-        }
-        return;
-    }
-    // Super-sampled: every stored face (the other faces keep no directional maps), the
-    // mirrors, then with --store-all-rays the rest, each in ascending order, as the faces
-    // present here are: one walk finds each stored face's fragments, or finds a sliver.
-    for (const RadianceMaps* stored : {&pc.spec, &pc.other}) {
-        size_t k = 0;
-        for (const int f : stored->faces) {
-            while (k < g.faces.size() && g.faces[k] < uint32_t(f)) ++k;
-            const bool spec_store = stored == &pc.spec;
-            if (k == g.faces.size() || g.faces[k] != uint32_t(f)) {
-                if (spec_store && pc.coverage(pd.d, f) > 0)
-                    lose_sliver_light(pc, pd.d, f, res.lost);
-                continue;
-            }
-            const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
-            RadianceMaps& maps = spec_store ? pc.spec : pc.other;
+    // Stored faces only (the other faces keep no directional maps), visited as the faces
+    // present here: a direction holds a few of a tessellated ball's thousands of small faces.
+    // Each face's rays are its own, so the order of the visits changes no value.
+    for (size_t k = 0; k < g.faces.size(); ++k) {
+        const int f = int(g.faces[k]);
+        const bool spec_store = pc.spec.stores(f);
+        if (!spec_store && !pc.other.stores(f)) continue;
+        const FragRange frags{g.face_begin[k], g.face_begin[k + 1]};
+        RadianceMaps& maps = spec_store ? pc.spec : pc.other;
+        if (pc.s == 1)
+            store_rays(pc, pd, size_t(f), frags, maps, spec_store, w.out);
+        else
             store_rays_supersampled(pc, pd, size_t(f), frags, maps, spec_store, w, res.lost);
+    }
+    // A mirror with rays on the N x N grid but none on the finer exchange grid (a sliver)
+    // cannot send its unshot light. Without super-sampling the exchange grid is the grid the
+    // coverage was measured on, so there are none (checked in debug builds).
+#ifdef NDEBUG
+    if (pc.s == 1) return;
+#endif
+    size_t k = 0;  // one walk: the mirrors ascending, as the faces present here are
+    for (const int f : pc.spec.faces) {
+        while (k < g.faces.size() && g.faces[k] < uint32_t(f)) ++k;
+        if ((k == g.faces.size() || g.faces[k] != uint32_t(f)) && pc.coverage(pd.d, f) > 0) {
+            VLF_CHECK(pc.s > 1);
+            lose_sliver_light(pc, pd.d, f, res.lost);
         }
     }
 }
