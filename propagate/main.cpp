@@ -182,7 +182,8 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
     report["memory_bytes"]["peak_rss"] = vlf::peak_rss_bytes();  // including the write
     report["memory_bytes"]["startup_rss"] = startup_rss;
     report["memory_bytes"]["heap_on_huge_pages"] = vlf::heap_on_huge_pages();
-    report["memory_bytes"]["huge_pages"] = vlf::huge_page_bytes();  // resident at the end
+    report["memory_bytes"]["huge_pages"] = vlf::huge_page_bytes();   // resident at the end
+    report["memory_bytes"]["heap_tunables"] = vlf::heap_tunables();  // GLIBC_TUNABLES
     if (!o.report.empty()) {
         // After the bake (its time and memory are not the bake's): one entry per face.
         if (!o.no_surfaces)
@@ -217,7 +218,7 @@ int run(Options o, const CLI::App& app, vlf::Ranks& ranks) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    vlf::restart_with_huge_pages(argv);
+    vlf::restart_with_heap_settings(argv);
     Options o;
     CLI::App app{
         "propagate: build the virtual light field of a scene and propagate light through it "

@@ -127,18 +127,30 @@ endforeach()
 # docs/propagation.md §10), and a user who names the tunable is left alone.
 string(JSON huge GET "${report}" memory_bytes heap_on_huge_pages)
 string(JSON huge_bytes GET "${report}" memory_bytes huge_pages)
+string(JSON tunables GET "${report}" memory_bytes heap_tunables)
 if(DEFINED ENV{GLIBC_TUNABLES})
   message(STATUS "GLIBC_TUNABLES is set ($ENV{GLIBC_TUNABLES}): the default is not checked")
 elseif(NOT huge)
   message(FATAL_ERROR "the heap is not on huge pages by default")
+else()
+  # ... and glibc keeps what a phase frees for the next (vlf/core/memory.hpp).
+  foreach(t glibc.malloc.mmap_threshold=33554432 glibc.malloc.trim_threshold=1099511627776
+          glibc.malloc.top_pad=67108864)
+    string(FIND ":${tunables}:" ":${t}:" at)
+    if(at LESS 0)
+      message(FATAL_ERROR "GLIBC_TUNABLES ${tunables} lacks ${t} by default")
+    endif()
+  endforeach()
 endif()
 expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=glibc.malloc.hugetlb=0 ${PROPAGATE}
             "${SOURCE_DIR}/scenes/cornell-mirrors.json" -l 33 -N 32 -m 8 -c 1 -q
             -o "${WORK_DIR}/small4k.vlf" --report "${WORK_DIR}/small4k.json")
 file(READ "${WORK_DIR}/small4k.json" report4k)
 string(JSON huge4k GET "${report4k}" memory_bytes heap_on_huge_pages)
-if(huge4k)
-  message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.hugetlb=0 was overridden")
+string(JSON tunables4k GET "${report4k}" memory_bytes heap_tunables)
+if(huge4k OR NOT tunables4k MATCHES "^glibc.malloc.hugetlb=0:.*glibc.malloc.top_pad=")
+  message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.hugetlb=0 was overridden or not completed "
+                      "(${tunables4k})")
 endif()
 foreach(key total sealed empty_footprint grazing_mirror subpixel_mirror rounding)
   string(JSON v GET "${report}" ledger 1 lost ${key})

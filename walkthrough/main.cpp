@@ -253,7 +253,7 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    vlf::restart_with_huge_pages(argv);
+    vlf::restart_with_heap_settings(argv);
     Options o;
     CLI::App app{
         "walkthrough: render views of a VLF bake by lookup (Khanna et al., VLF §6).\n"

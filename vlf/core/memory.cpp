@@ -26,23 +26,66 @@ int64_t current_rss_bytes() {
 }
 
 namespace {
-constexpr const char* kTunable = "glibc.malloc.hugetlb";  // glibc >= 2.35
+
+constexpr const char* kHugePages = "glibc.malloc.hugetlb";  // glibc >= 2.35
+
+// What the restart asks of glibc's malloc (docs/propagation.md §10), each tunable unless the
+// user's GLIBC_TUNABLES names it.
+struct HeapTunable {
+    const char* name;
+    const char* value;
+};
+constexpr HeapTunable kHeapTunables[] = {
+    // The heap on transparent huge pages: a first touch costs a fault per 2 MiB, not per
+    // 4 KiB, and random reads miss the TLB far less.
+    {kHugePages, "1"},
+    // Blocks below 32 MiB (glibc's ceiling for this tunable) come from the heap and are
+    // reused once freed; above the default (128 KiB, raised only as mapped blocks are
+    // freed) each was mapped, unmapped when freed, and faulted in afresh when made again.
+    {"glibc.malloc.mmap_threshold", "33554432"},
+    // Freed memory at the heap's top stays in the process for the next phase rather than
+    // going back to the kernel at every large free (1 TiB: never, in practice).
+    {"glibc.malloc.trim_threshold", "1099511627776"},
+    // The heap grows 64 MiB at a time.
+    {"glibc.malloc.top_pad", "67108864"},
+};
+
+// The value GLIBC_TUNABLES (`tunables`: name=value entries, ':'-separated) gives `name`;
+// empty where it names it not.
+std::string tunable_value(const char* tunables, const std::string& name) {
+    if (tunables == nullptr) return {};
+    const std::string list = std::string(":") + tunables + ":";
+    const size_t at = list.find(":" + name + "=");
+    if (at == std::string::npos) return {};
+    const size_t begin = at + name.size() + 2;
+    return list.substr(begin, list.find(':', begin) - begin);
+}
+
 }  // namespace
 
-void restart_with_huge_pages(char** argv) {
+void restart_with_heap_settings(char** argv) {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
-    if (tunables != nullptr && std::strstr(tunables, kTunable) != nullptr) return;
-    std::string value = tunables != nullptr && *tunables != '\0' ? std::string(tunables) + ":" : "";
-    value += std::string(kTunable) + "=1";
+    std::string value = tunables != nullptr ? std::string(tunables) : std::string();
+    bool added = false;
+    for (const HeapTunable& t : kHeapTunables) {
+        if (!tunable_value(tunables, t.name).empty()) continue;
+        if (!value.empty()) value += ":";
+        value += std::string(t.name) + "=" + t.value;
+        added = true;
+    }
+    if (!added) return;  // all named: the user's, or this program's after its restart
     if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
     execv("/proc/self/exe", argv);
     // (Not restarted: the program goes on with the heap it has.)
 }
 
-bool heap_on_huge_pages() {
+std::string heap_tunables() {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
-    return tunables != nullptr &&
-           std::strstr(tunables, (std::string(kTunable) + "=1").c_str()) != nullptr;
+    return tunables != nullptr ? std::string(tunables) : std::string();
+}
+
+bool heap_on_huge_pages() {
+    return tunable_value(std::getenv("GLIBC_TUNABLES"), kHugePages) == "1";
 }
 
 int64_t huge_page_bytes() {
