@@ -673,6 +673,17 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
         cache.gathers.assign(size_t(dirs.size()), SurfaceGatherPlan{});
     }
     const bool keep = arrivals != nullptr;
+    // Where no source brings any power (cycle 1 when the lamp caustics' shot carries the
+    // lamps' light on smooth surfaces, lamp_caustics.hpp), the plans are made but not run:
+    // every target would send nothing (apply_target), after a read of each pixel's power
+    // at random. The first nonzero power ends the search.
+    auto lit = [](const Rgb& p) { return p.x != 0.0 || p.y != 0.0 || p.z != 0.0; };
+    const bool any_power =
+        keep ? std::any_of(arrivals->power.begin(), arrivals->power.end(),
+                           [&](const ArrivalPower& a) { return lit(a.rgb); })
+             : std::any_of(sources.begin(), sources.end(), [&](const SurfaceSources& s) {
+                   return std::any_of(s.power.begin(), s.power.end(), lit);
+               });
     ByTarget in = by_target(surfaces, dirs.size(), maps, sources);
     const size_t G = size_t(surfaces.size()) * 2;
     const double a = ray_area(N);
@@ -725,10 +736,11 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             const uint32_t k = plan.pixels[plan.pixel_begin[t] + e].arrival;
             return keep ? &arrivals->power[k].rgb : &sources[source[t]].power[k];
         };
-        rounding[size_t(d - maps.first)] = run_plan(
-            scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
-            [&](uint32_t t, uint32_t e) { return *at(t, e); },
-            [&](uint32_t t, uint32_t e) -> const void* { return at(t, e); }, maps);
+        if (any_power)
+            rounding[size_t(d - maps.first)] = run_plan(
+                scene, surfaces, plan, group_rays, int(d), a * dirs.solid_angle(int(d)),
+                [&](uint32_t t, uint32_t e) { return *at(t, e); },
+                [&](uint32_t t, uint32_t e) -> const void* { return at(t, e); }, maps);
         if (keep) cache.gathers[size_t(d)] = plan;  // (a copy holds just the sizes)
     });
     if (keep) arrivals->ready = true;

@@ -204,8 +204,9 @@ struct SurfaceRayCache {
 // direction's plan is kept in `cache` and reads them from then on (gather_surface_arrivals),
 // and arrivals->ready is set. The sources' targets and pixels are consumed: they are laid out
 // by target direction first (each source's released as it is moved) and each direction's
-// share is released once its gather is done; their frames and power stay. Returns, per held
-// direction, the power single precision rounded away (as gather_specular).
+// share is released once its gather is done; their frames and power stay. Where no source
+// brings any power, the plans are made (and kept) but not run. Returns, per held direction,
+// the power single precision rounded away (as gather_specular).
 std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& dirs,
                                         const std::vector<Mat3>& rotations, int N, int m,
                                         const SmoothSurfaces& surfaces,
