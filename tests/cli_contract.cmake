@@ -148,9 +148,23 @@ expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=glibc.malloc.hugetlb=0 ${PR
 file(READ "${WORK_DIR}/small4k.json" report4k)
 string(JSON huge4k GET "${report4k}" memory_bytes heap_on_huge_pages)
 string(JSON tunables4k GET "${report4k}" memory_bytes heap_tunables)
-if(huge4k OR NOT tunables4k MATCHES "^glibc.malloc.hugetlb=0:.*glibc.malloc.top_pad=")
+set(rest "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=1099511627776")
+set(rest "${rest}:glibc.malloc.top_pad=67108864")
+if(huge4k OR NOT tunables4k STREQUAL "glibc.malloc.hugetlb=0:${rest}")
   message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.hugetlb=0 was overridden or not completed "
                       "(${tunables4k})")
+endif()
+# A tunable named with an empty value is the user's too: one restart, not one per run of
+# the check (it used to read as not named).
+expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=glibc.malloc.top_pad= ${PROPAGATE}
+            "${SOURCE_DIR}/scenes/cornell-mirrors.json" -l 33 -N 32 -m 8 -c 1 -q
+            -o "${WORK_DIR}/small_pad.vlf" --report "${WORK_DIR}/small_pad.json")
+file(READ "${WORK_DIR}/small_pad.json" report_pad)
+string(JSON tunables_pad GET "${report_pad}" memory_bytes heap_tunables)
+set(expected "glibc.malloc.top_pad=:glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432")
+set(expected "${expected}:glibc.malloc.trim_threshold=1099511627776")
+if(NOT tunables_pad STREQUAL expected)
+  message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.top_pad= became ${tunables_pad}")
 endif()
 foreach(key total sealed empty_footprint grazing_mirror subpixel_mirror rounding)
   string(JSON v GET "${report}" ledger 1 lost ${key})

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 
 namespace vlf {
@@ -30,33 +31,36 @@ namespace {
 constexpr const char* kHugePages = "glibc.malloc.hugetlb";  // glibc >= 2.35
 
 // What the restart asks of glibc's malloc (docs/propagation.md §10), each tunable unless the
-// user's GLIBC_TUNABLES names it.
+// user's GLIBC_TUNABLES names it or the user sets its older environment variable.
 struct HeapTunable {
     const char* name;
     const char* value;
+    const char* legacy;  // the MALLOC_*_ variable glibc also reads (a tunable overrides it)
 };
 constexpr HeapTunable kHeapTunables[] = {
     // The heap on transparent huge pages: a first touch costs a fault per 2 MiB, not per
     // 4 KiB, and random reads miss the TLB far less.
-    {kHugePages, "1"},
+    {kHugePages, "1", nullptr},
     // Blocks below 32 MiB (glibc's ceiling for this tunable) come from the heap and are
     // reused once freed; above the default (128 KiB, raised only as mapped blocks are
     // freed) each was mapped, unmapped when freed, and faulted in afresh when made again.
-    {"glibc.malloc.mmap_threshold", "33554432"},
+    {"glibc.malloc.mmap_threshold", "33554432", "MALLOC_MMAP_THRESHOLD_"},
     // Freed memory at the heap's top stays in the process for the next phase rather than
     // going back to the kernel at every large free (1 TiB: never, in practice).
-    {"glibc.malloc.trim_threshold", "1099511627776"},
+    {"glibc.malloc.trim_threshold", "1099511627776", "MALLOC_TRIM_THRESHOLD_"},
     // The heap grows 64 MiB at a time.
-    {"glibc.malloc.top_pad", "67108864"},
+    {"glibc.malloc.top_pad", "67108864", "MALLOC_TOP_PAD_"},
 };
+// Set in the restarted program's environment: it never restarts again.
+constexpr const char* kRestarted = "VLF_HEAP_RESTARTED";
 
-// The value GLIBC_TUNABLES (`tunables`: name=value entries, ':'-separated) gives `name`;
-// empty where it names it not.
-std::string tunable_value(const char* tunables, const std::string& name) {
-    if (tunables == nullptr) return {};
+// The value GLIBC_TUNABLES (`tunables`: name=value entries, ':'-separated) gives `name`
+// (its last entry, the one glibc applies), or none where it names it not.
+std::optional<std::string> tunable_value(const char* tunables, const std::string& name) {
+    if (tunables == nullptr) return std::nullopt;
     const std::string list = std::string(":") + tunables + ":";
-    const size_t at = list.find(":" + name + "=");
-    if (at == std::string::npos) return {};
+    const size_t at = list.rfind(":" + name + "=");
+    if (at == std::string::npos) return std::nullopt;
     const size_t begin = at + name.size() + 2;
     return list.substr(begin, list.find(':', begin) - begin);
 }
@@ -64,19 +68,27 @@ std::string tunable_value(const char* tunables, const std::string& name) {
 }  // namespace
 
 void restart_with_heap_settings(char** argv) {
+    if (std::getenv(kRestarted) != nullptr) return;
     const char* tunables = std::getenv("GLIBC_TUNABLES");
-    std::string value = tunables != nullptr ? std::string(tunables) : std::string();
+    const std::optional<std::string> before =
+        tunables != nullptr ? std::optional<std::string>(tunables) : std::nullopt;
+    std::string value = before.value_or("");
     bool added = false;
     for (const HeapTunable& t : kHeapTunables) {
-        if (!tunable_value(tunables, t.name).empty()) continue;
+        if (tunable_value(tunables, t.name) || (t.legacy && std::getenv(t.legacy))) continue;
         if (!value.empty()) value += ":";
         value += std::string(t.name) + "=" + t.value;
         added = true;
     }
-    if (!added) return;  // all named: the user's, or this program's after its restart
+    if (!added) return;  // all set by the user
     if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
-    execv("/proc/self/exe", argv);
-    // (Not restarted: the program goes on with the heap it has.)
+    if (setenv(kRestarted, "1", 1) == 0) execv("/proc/self/exe", argv);
+    // Not restarted: the program goes on with the heap it has, and says so in its report.
+    if (before)
+        setenv("GLIBC_TUNABLES", before->c_str(), 1);
+    else
+        unsetenv("GLIBC_TUNABLES");
+    unsetenv(kRestarted);
 }
 
 std::string heap_tunables() {
@@ -85,7 +97,7 @@ std::string heap_tunables() {
 }
 
 bool heap_on_huge_pages() {
-    return tunable_value(std::getenv("GLIBC_TUNABLES"), kHugePages) == "1";
+    return tunable_value(std::getenv("GLIBC_TUNABLES"), kHugePages) == std::string("1");
 }
 
 int64_t huge_page_bytes() {
