@@ -142,28 +142,28 @@ else()
     endif()
   endforeach()
 endif()
-expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=glibc.malloc.hugetlb=0 ${PROPAGATE}
-            "${SOURCE_DIR}/scenes/cornell-mirrors.json" -l 33 -N 32 -m 8 -c 1 -q
-            -o "${WORK_DIR}/small4k.vlf" --report "${WORK_DIR}/small4k.json")
-file(READ "${WORK_DIR}/small4k.json" report4k)
-string(JSON huge4k GET "${report4k}" memory_bytes heap_on_huge_pages)
-string(JSON tunables4k GET "${report4k}" memory_bytes heap_tunables)
+# A small run with GLIBC_TUNABLES=`value`: whether its heap was on huge pages, and the
+# tunables it ran with.
+function(run_with_tunables value huge_var tunables_var)
+  expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=${value} ${PROPAGATE}
+              "${SOURCE_DIR}/scenes/cornell-mirrors.json" -l 33 -N 32 -m 8 -c 1 -q
+              -o "${WORK_DIR}/tunables.vlf" --report "${WORK_DIR}/tunables.json")
+  file(READ "${WORK_DIR}/tunables.json" r)
+  string(JSON h GET "${r}" memory_bytes heap_on_huge_pages)
+  string(JSON t GET "${r}" memory_bytes heap_tunables)
+  set(${huge_var} "${h}" PARENT_SCOPE)
+  set(${tunables_var} "${t}" PARENT_SCOPE)
+endfunction()
 set(rest "glibc.malloc.mmap_threshold=33554432:glibc.malloc.trim_threshold=1099511627776")
-set(rest "${rest}:glibc.malloc.top_pad=67108864")
-if(huge4k OR NOT tunables4k STREQUAL "glibc.malloc.hugetlb=0:${rest}")
+run_with_tunables(glibc.malloc.hugetlb=0 huge4k tunables4k)
+if(huge4k OR NOT tunables4k STREQUAL "glibc.malloc.hugetlb=0:${rest}:glibc.malloc.top_pad=67108864")
   message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.hugetlb=0 was overridden or not completed "
                       "(${tunables4k})")
 endif()
 # A tunable named with an empty value is the user's too: one restart, not one per run of
 # the check (it used to read as not named).
-expect_exit(0 ${CMAKE_COMMAND} -E env GLIBC_TUNABLES=glibc.malloc.top_pad= ${PROPAGATE}
-            "${SOURCE_DIR}/scenes/cornell-mirrors.json" -l 33 -N 32 -m 8 -c 1 -q
-            -o "${WORK_DIR}/small_pad.vlf" --report "${WORK_DIR}/small_pad.json")
-file(READ "${WORK_DIR}/small_pad.json" report_pad)
-string(JSON tunables_pad GET "${report_pad}" memory_bytes heap_tunables)
-set(expected "glibc.malloc.top_pad=:glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432")
-set(expected "${expected}:glibc.malloc.trim_threshold=1099511627776")
-if(NOT tunables_pad STREQUAL expected)
+run_with_tunables(glibc.malloc.top_pad= huge_pad tunables_pad)
+if(NOT huge_pad OR NOT tunables_pad STREQUAL "glibc.malloc.top_pad=:glibc.malloc.hugetlb=1:${rest}")
   message(FATAL_ERROR "GLIBC_TUNABLES=glibc.malloc.top_pad= became ${tunables_pad}")
 endif()
 foreach(key total sealed empty_footprint grazing_mirror subpixel_mirror rounding)

@@ -5,7 +5,6 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <optional>
 #include <string>
 
@@ -68,7 +67,10 @@ std::optional<std::string> tunable_value(const char* tunables, const std::string
 }  // namespace
 
 void restart_with_heap_settings(char** argv) {
-    if (std::getenv(kRestarted) != nullptr) return;
+    if (std::getenv(kRestarted) != nullptr) {  // this is the restarted program
+        unsetenv(kRestarted);                  // (not handed on to what it runs)
+        return;
+    }
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     const std::optional<std::string> before =
         tunables != nullptr ? std::optional<std::string>(tunables) : std::nullopt;

@@ -18,10 +18,10 @@ int64_t current_rss_bytes();  // resident memory now (/proc/self/statm)
 // time (top_pad). A tunable the user's GLIBC_TUNABLES already names (even with an empty
 // value), or whose older MALLOC_*_ variable the user sets, is left as the user set it (for
 // example glibc.malloc.hugetlb=0); when all four are, there is no restart. The restarted
-// program never restarts again (VLF_HEAP_RESTARTED in its environment). Returns when it
-// does not restart, or when the restart fails (GLIBC_TUNABLES then as it was). To be called
-// first in main(), before any thread or file. A bake's arrays
-// are gigabytes read at random: with 2 MiB pages their first touch costs a fault per 2 MiB
+// program never restarts again (VLF_HEAP_RESTARTED marks it, and it removes the mark).
+// Returns when it does not restart, or when the restart fails (GLIBC_TUNABLES then as it
+// was). To be called first in main(), before any thread or file. A bake's arrays are
+// gigabytes read at random: with 2 MiB pages their first touch costs a fault per 2 MiB
 // instead of one per 4 KiB, and their reads miss the TLB far less; each fresh page costs a
 // fault and zeroing, so memory a phase frees is better reused by the next than returned
 // (BENCHMARKS.md "Glass", its paragraphs "Huge pages" and "The heap kept").

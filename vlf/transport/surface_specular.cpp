@@ -676,8 +676,8 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     // Where no source brings any power (cycle 1 when the lamp caustics' shot carries the
     // lamps' light on smooth surfaces, lamp_caustics.hpp), the plans are made but not run:
     // every target would send nothing (apply_target), after a read of each pixel's power
-    // at random. The first nonzero power ends the search.
-    auto lit = [](const Rgb& p) { return p.x != 0.0 || p.y != 0.0 || p.z != 0.0; };
+    // at random. The first power that can send (apply_target's test) ends the search.
+    auto lit = [](const Rgb& p) { return p.x > 0.0 || p.y > 0.0 || p.z > 0.0; };
     const bool any_power =
         keep ? std::any_of(arrivals->power.begin(), arrivals->power.end(),
                            [&](const ArrivalPower& a) { return lit(a.rgb); })
