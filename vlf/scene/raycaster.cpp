@@ -53,6 +53,7 @@ struct RayCaster::Impl {
         int twin;
     };
     std::vector<HitFace> faces;  // per face id
+    bool filters = false;        // the library runs context filter functions
     std::mutex error_mutex;
     std::string error;  // first message reported by Embree's error callback
 
@@ -78,7 +79,8 @@ struct RayCaster::Impl {
     }
 };
 
-RayCaster::RayCaster(const Scene& scene) : m_scene(scene), m_impl(std::make_unique<Impl>()) {
+RayCaster::RayCaster(const Scene& scene, int without_object)
+    : m_scene(scene), m_impl(std::make_unique<Impl>()) {
     Impl& im = *m_impl;
     im.device = rtcNewDevice(nullptr);
     if (!im.device)
@@ -95,6 +97,7 @@ RayCaster::RayCaster(const Scene& scene) : m_scene(scene), m_impl(std::make_uniq
     std::vector<unsigned> indices;
     for (const Face& f : scene.faces) {
         if (f.vertices.size() < 3) continue;  // degenerate: nothing to hit
+        if (f.object == without_object) continue;
         // A two-sided surface goes in once: a hit on it is reported as the side facing the
         // ray (intersect), on the same plane, so its twin would only double the work.
         if (f.twin >= 0 && f.twin < f.id) continue;
@@ -126,7 +129,11 @@ RayCaster::RayCaster(const Scene& scene) : m_scene(scene), m_impl(std::make_uniq
     im.check("scene creation");
     if (!im.scene) throw Error("ray caster: Embree returned no scene");
     // Robust traversal: no ray slips through the shared edges of a fan or of a mesh.
-    rtcSetSceneFlags(im.scene, RTC_SCENE_FLAG_ROBUST);
+    im.filters =
+        rtcGetDeviceProperty(im.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) != 0;
+    rtcSetSceneFlags(im.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST |
+                                             (im.filters ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
+                                                         : RTC_SCENE_FLAG_NONE)));
     rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
     if (m_triangles > 0) {
         RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -180,14 +187,57 @@ bool valid_query(const Vec3& o, const Vec3& d, double tmin, double tmax) {
            !std::isnan(tmax);
 }
 
+// An intersection context that drops the hits on two faces (intersect_past).
+struct SkipContext {
+    RTCIntersectContext ctx;  // first: Embree hands the filter a pointer to it
+    const int* face_of;
+    int a, b;
+};
+
+void skip_faces(const RTCFilterFunctionNArguments* args) {
+    const auto* c = reinterpret_cast<const SkipContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const int f = c->face_of[RTCHitN_primID(args->hit, args->N, i)];
+        if (f == c->a || f == c->b) args->valid[i] = 0;
+    }
+}
+
 }  // namespace
 
 bool RayCaster::intersect(const Vec3& origin, const Vec3& dir, double tmin, double tmax,
                           RayHit& hit) const {
+    return intersect_past(-1, origin, dir, tmin, tmax, hit);
+}
+
+bool RayCaster::intersect_past(int skip, const Vec3& origin, const Vec3& dir, double tmin,
+                               double tmax, RayHit& hit) const {
     hit = RayHit{};
     if (m_triangles == 0 || !valid_query(origin, dir, tmin, tmax)) return false;
-    RTCIntersectContext ctx;  // per call: queries share nothing mutable
+    if (skip >= 0 && !m_impl->filters) {
+        // A library without filter functions: cast again past each hit on the face.
+        const int twin = m_impl->faces[size_t(skip)].twin;
+        Vec3 o = origin;
+        for (int attempt = 0; attempt < 8; ++attempt) {
+            if (!intersect_past(-1, o, dir, tmin, tmax, hit)) return false;
+            if (hit.face != skip && hit.face != twin) {
+                hit.t = glm::dot(hit.point - origin, dir) / glm::dot(dir, dir);
+                return true;
+            }
+            o += (std::max(hit.t, 0.0) + 1e-6) * dir;
+        }
+        hit = RayHit{};
+        return false;
+    }
+    SkipContext sc;  // per call: queries share nothing mutable
+    RTCIntersectContext& ctx = sc.ctx;
     rtcInitIntersectContext(&ctx);
+    if (skip >= 0) {
+        sc.face_of = m_impl->face_of.data();
+        sc.a = skip;
+        sc.b = m_impl->faces[size_t(skip)].twin;
+        ctx.filter = &skip_faces;
+    }
     RTCRayHit rh;
     fill_ray(rh.ray, origin, dir, tmin, tmax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;

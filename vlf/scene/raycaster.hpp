@@ -30,8 +30,9 @@ struct RayHit {
 class RayCaster {
   public:
     // Builds the acceleration structure; throws vlf::Error when Embree fails or a face
-    // has non-finite vertices. The scene must outlive the caster.
-    explicit RayCaster(const Scene& scene);
+    // has non-finite vertices. The scene must outlive the caster. `without_object` >= 0:
+    // that object's faces are left out (outward_casters.hpp); hits name the scene's face ids.
+    explicit RayCaster(const Scene& scene, int without_object = -1);
     ~RayCaster();
     RayCaster(const RayCaster&) = delete;
     RayCaster& operator=(const RayCaster&) = delete;
@@ -43,6 +44,10 @@ class RayCaster {
     // Safe to call from many threads at once.
     bool intersect(const Vec3& origin, const Vec3& dir, double tmin, double tmax,
                    RayHit& hit) const;
+    // The same, never meeting face `skip` or its twin (a ray that leaves a planar face
+    // does not meet it again; in single precision a grazing one may, at t ~ 0).
+    bool intersect_past(int skip, const Vec3& origin, const Vec3& dir, double tmin, double tmax,
+                        RayHit& hit) const;
     // Whether any face is hit with t in [tmin, tmax]. Thread-safe.
     bool occluded(const Vec3& origin, const Vec3& dir, double tmin, double tmax) const;
 

@@ -9,22 +9,10 @@
 
 namespace vlf {
 
-namespace {
-
-// Closest hit along `dir` from `origin` on `from`, ignoring `from` itself: a convex planar
-// face cannot be met again by a ray leaving it, so a hit on it is rounding at t ~ 0.
-bool trace_from(const RayCaster& caster, int from, const Vec3& origin, const Vec3& dir,
-                RayHit& hit) {
-    Vec3 o = origin + kResampleEpsilon * dir;
-    for (int attempt = 0; attempt < 4; ++attempt) {
-        if (!caster.intersect(o, dir, 0.0, 1e30, hit)) return false;
-        if (hit.face != from) return true;
-        o = hit.point + kResampleEpsilon * dir;
-    }
-    return false;
+bool trace_leaving(const RayCaster& caster, int from, const Vec3& origin, const Vec3& dir,
+                   RayHit& hit) {
+    return caster.intersect_past(from, origin + kResampleEpsilon * dir, dir, 0.0, 1e30, hit);
 }
-
-}  // namespace
 
 // The reflection, derived. A mirror with unit normal n reflects light that travels along
 // i (towards the mirror, i.n < 0) into the travel direction t = i - 2 (i.n) n, which
@@ -49,6 +37,7 @@ namespace {
 struct PathTracer {
     const Scene& scene;
     const RayCaster& caster;
+    const OutwardCasters* outward;  // or null: every cast searches the whole scene
     const std::vector<Rgb>& radiance;
     const std::vector<size_t>& offset;
     int max_bounces;
@@ -59,7 +48,8 @@ struct PathTracer {
              int bounce) const {
         if (weight < kResampleMinWeight) return Rgb(0.0);  // not followed: nothing traced
         RayHit hit;
-        if (!trace_from(caster, from, p, w, hit)) return Rgb(0.0);              // escaped
+        const RayCaster& c = outward ? outward->leaving(from, w) : caster;
+        if (!trace_leaving(c, from, p, w, hit)) return Rgb(0.0);                // escaped
         if (glm::dot(scene.faces[hit.face].normal, w) >= 0.0) return Rgb(0.0);  // back face
         Rgb kept(1.0);
         if (medium && medium->is_absorbing())
@@ -102,14 +92,19 @@ struct PathTracer {
 Rgb specular_path_radiance(const Scene& scene, const RayCaster& caster,
                            const std::vector<Rgb>& radiance, const std::vector<size_t>& offset,
                            int face, const Vec3& point, const Vec3& travel, int max_bounces) {
-    const PathTracer tracer{scene, caster, radiance, offset, max_bounces};
+    const PathTracer tracer{scene, caster, nullptr, radiance, offset, max_bounces};
     return tracer.leaving(face, point, travel, 1.0, 0);
 }
 
 SpecularResampler::SpecularResampler(Transport& transport, const RayCaster& caster)
     : m_transport(transport),
       m_caster(caster),
-      m_radiance(texel_radiance(transport.scene(), transport.texture_maps())) {
+      m_radiance(texel_radiance(transport.scene(), transport.texture_maps())),
+      m_outward(transport.scene(), caster, [&](int object) {
+          const Scene& s = transport.scene();
+          const SceneObject& o = s.objects[size_t(object)];
+          return o.face_count > 0 && s.material_of(s.faces[size_t(o.first_face)]).is_specular();
+      }) {
     VLF_CHECK(caster.scene().faces.size() == transport.scene().faces.size());
 }
 
@@ -136,8 +131,9 @@ bool SpecularResampler::face(int d, int fid, const FaceRaster& fr) const {
     for (const FaceFragment& ff : fr.fragments)
         fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
             const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
-            const Rgb L =
-                specular_path_radiance(scene, m_caster, m_radiance, offset, fid, point, travel);
+            const PathTracer tracer{scene,      m_caster, &m_outward,
+                                    m_radiance, offset,   kResampleMaxBounces};
+            const Rgb L = tracer.leaving(fid, point, travel, 1.0, 0);
             maps.total[base + k++] = RgbF(L);
         });
     return true;

@@ -10,6 +10,7 @@
 
 #include "vlf/core/math.hpp"
 #include "vlf/field/psf.hpp"
+#include "vlf/scene/outward_casters.hpp"
 #include "vlf/scene/raycaster.hpp"
 #include "vlf/scene/scene.hpp"
 #include "vlf/transport/transport.hpp"
@@ -25,6 +26,14 @@ inline constexpr int kResampleMaxBounces = 8;
 inline constexpr double kResampleMinWeight = 1e-4;
 // Ray origins are moved this far (normalised units) along the traced direction.
 inline constexpr double kResampleEpsilon = 1e-6;
+
+// The closest hit along `dir` of a ray that leaves face `from` at `origin` (a point of the
+// face), starting kResampleEpsilon along, never on `from` or its twin: a planar face,
+// either side, is not met again by a ray leaving it, and a hit there is rounding at t ~ 0
+// (in the float hierarchy a grazing ray leaving a glass ball met the ball's own polygon).
+// False when the ray escapes.
+bool trace_leaving(const RayCaster& caster, int from, const Vec3& origin, const Vec3& dir,
+                   RayHit& hit);
 
 // Radiance (W m^-2 sr^-1) leaving face `face` at `point` (normalised coordinates, on the
 // face) along the unit travel direction `travel` (must leave the face's front side):
@@ -68,6 +77,7 @@ class SpecularResampler {
     Transport& m_transport;
     const RayCaster& m_caster;
     std::vector<Rgb> m_radiance;  // texel_radiance of the texture maps
+    OutwardCasters m_outward;     // casts leaving a convex mirror or glass skip its faces
 };
 
 }  // namespace vlf
