@@ -79,12 +79,11 @@ TEST(OutwardCasters, OutwardCastsFindTheWholeScenesHitAndNeverTheObject) {
         // A point inside the triangle, and directions into its front half-space: one
         // grazing (1/20 of a degree off the plane), three at least 3 degrees off it.
         const double a = u(rng), b = u(rng) * (1.0 - a);
-        const Vec3 p =
-            face.vertices[0] + a * (face.vertices[1] - face.vertices[0]) +
-            b * (face.vertices[2] - face.vertices[0]);
+        const Vec3 p = face.vertices[0] + a * (face.vertices[1] - face.vertices[0]) +
+                       b * (face.vertices[2] - face.vertices[0]);
         for (int k = 0; k < 4; ++k) {
             Vec3 w = glm::normalize(Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
-            w -= glm::dot(w, face.normal) * face.normal;  // in the plane
+            w -= glm::dot(w, face.normal) * face.normal;            // in the plane
             const double c = k == 0 ? 1e-3 : 0.05 + 0.95 * u(rng);  // cos to the normal
             w = std::sqrt(1.0 - c * c) * glm::normalize(w) + c * face.normal;
             // Out of the ball, from the outer face or from the inner one (light leaving the

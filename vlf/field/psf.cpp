@@ -48,7 +48,7 @@ Psf rasterise_psf(const Scene& scene, const Vec3& omega, int direction, int reso
 }
 
 Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int resolution,
-                  int tile_size) {
+                  int tile_size, const Coverage* coverage) {
     validate_raster(resolution, tile_size);
     const int N = resolution, m = tile_size, n = N / m;
     Psf psf;
@@ -61,6 +61,9 @@ Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int r
     std::vector<ScratchTile> grid(static_cast<size_t>(n) * n);
     FaceRaster fr;
     for (const Face& face : scene.faces) {
+        if (coverage != nullptr && coverage->measured(face.id) &&
+            (*coverage)(direction, face.id) == 0)
+            continue;  // count_covered found no ray: rasterise_face would make no fragment
         rasterise_face(face, rotation, N, m, fr);
         for (const FaceFragment& ff : fr.fragments) {
             ScratchTile& tile = grid[static_cast<size_t>(ff.t) * n + ff.s];

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "vlf/core/math.hpp"
+#include "vlf/field/coverage.hpp"
 #include "vlf/field/edge_table.hpp"
 #include "vlf/scene/scene.hpp"
 
@@ -104,8 +105,11 @@ Psf rasterise_psf(const Scene& scene, const Vec3& omega, int direction, int reso
                   int tile_size);
 
 // Same with an explicit rotation (perturbed PSFs: rotation * omega must be +z).
+// `coverage`, when given, was measured with this very rotation and resolution as
+// `direction` (count_covered): a face it measured that covers no ray there is not
+// rasterised again (most of a fine mesh's faces in most directions); the PSF is the same.
 Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int resolution,
-                  int tile_size);
+                  int tile_size, const Coverage* coverage = nullptr);
 
 // One face rasterised alone: its fragments in tile row-major order (the same fragments,
 // in the same order, as it has in the full PSF). Used where a single face is needed in a

@@ -40,7 +40,9 @@ std::vector<uint8_t> supporting_faces(const Scene& scene, int object) {
 
 OutwardCasters::OutwardCasters(const Scene& scene, const RayCaster& all,
                                const std::function<bool(int)>& wanted)
-    : m_scene(scene), m_all(all), m_supports(scene.faces.size(), 0),
+    : m_scene(scene),
+      m_all(all),
+      m_supports(scene.faces.size(), 0),
       m_without(scene.objects.size(), nullptr) {
     const size_t F = scene.faces.size();
     for (size_t k = 0; k < scene.objects.size(); ++k) {

@@ -26,9 +26,9 @@ namespace {
 // VLF §3: the PSF of the direction, its rays numbered as slots tile by tile, and its
 // fragments grouped by face (in tile order within a face).
 void rasterise_and_group(const Scene& scene, const Mat3& rot, int d, int N, int m,
-                         DirectionGeometry& g) {
+                         const Coverage* coverage, DirectionGeometry& g) {
     const size_t nf = scene.faces.size();
-    g.psf = rasterise_psf(scene, rot, d, N, m);
+    g.psf = rasterise_psf(scene, rot, d, N, m, coverage);
     const Psf& psf = g.psf;
     g.tile_base.resize(psf.tiles.size() + 1);
     g.tile_base[0] = 0;
@@ -136,7 +136,7 @@ void clip_beams(const GeometryInputs& in, const Mat3& rot, const std::vector<uin
 void build_geometry(const GeometryInputs& in, const Mat3& rot, int d, DirectionGeometry& g,
                     TileExchange& x, ExchangeScratch& xs, StepTimes& times) {
     Stopwatch sw;
-    rasterise_and_group(in.scene, rot, d, in.N, in.m, g);
+    rasterise_and_group(in.scene, rot, d, in.N, in.m, in.coverage, g);
     times.rasterise += sw.lap();
 
     find_partners(in.scene, in.seal_gap, g, x, xs);

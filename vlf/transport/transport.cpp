@@ -292,7 +292,8 @@ void Transport::run_pass(int pass, double share) {
                                 .seal_gap = m_scene.seal_gap,
                                 .N = pc.N,
                                 .m = pc.m,
-                                .sending = reused ? nullptr : senders.face_sends.data()};
+                                .sending = reused ? nullptr : senders.face_sends.data(),
+                                .coverage = pass == 0 && s == 1 ? &m_coverage : nullptr};
     const GeometryCache cache{.slots = m_cache.data() + size_t(pass) * size_t(l),
                               .used = m_cache_used,
                               .budget = reused ? m_params.cache_budget_mib << 20 : 0};

@@ -134,6 +134,9 @@ struct GeometryInputs {
     // A pass whose geometry is used once clips only the rays of these faces (per face,
     // nonzero: sends) and their partners; null clips every ray.
     const uint8_t* sending;
+    // The coverage measured on this grid and these rotations (the true directions, not
+    // super-sampled), or null: faces it knows to cover nothing are not rasterised again.
+    const Coverage* coverage;
 };
 
 // This pass's part of the transport's geometry cache.
