@@ -12,6 +12,7 @@
 #include "vlf/core/rotation.hpp"
 #include "vlf/field/direction_set.hpp"
 #include "vlf/scene/scene_loader.hpp"
+#include "vlf/transport/transport.hpp"
 
 namespace vlf {
 namespace {
@@ -244,6 +245,49 @@ TEST(PsfParameters, BadResolutionAndTileFailBeforeWork) {
     const Scene scene = test::make_scene({{{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}}});
     EXPECT_THROW(rasterise_psf(scene, Vec3(0, 0, 1), 0, 64, 6), ParameterError);
     EXPECT_THROW(DirectionSet(100), ParameterError);
+}
+
+}  // namespace
+}  // namespace vlf
+
+namespace vlf {
+namespace {
+
+TEST(PsfCoverage, FacesTheCountFoundEmptyAreSkippedForTheSamePsf) {
+    // The transport's true-direction PSFs skip a stored face whose measured coverage in the
+    // direction is 0 (rasterise_psf's `coverage`): the tiles, fragments and spans must be
+    // those of the full rasterisation. tests/scenes/glass-room.json: a ball of 320 facets
+    // (most cover no ray centre in a given direction), a box, a mirror, the room.
+    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
+    const DirectionSet dirs(129);
+    std::vector<Mat3> rot(size_t(dirs.size()));
+    for (int d = 0; d < dirs.size(); ++d) rot[size_t(d)] = rotation_to_z(dirs.direction(d));
+    const int N = 32, m = 8;
+    const Coverage cov = measure_coverage(s, rot, N, std::vector<uint8_t>(s.faces.size(), 1));
+    uint64_t skipped = 0;
+    for (int d = 0; d < dirs.size(); ++d) {
+        for (const Face& f : s.faces) skipped += cov(d, f.id) == 0;
+        const Psf a = rasterise_psf(s, rot[size_t(d)], d, N, m);
+        const Psf b = rasterise_psf(s, rot[size_t(d)], d, N, m, &cov);
+        ASSERT_EQ(a.tile_of, b.tile_of) << d;
+        ASSERT_EQ(a.tiles.size(), b.tiles.size()) << d;
+        for (size_t t = 0; t < a.tiles.size(); ++t) {
+            const Tile &x = a.tiles[t], &y = b.tiles[t];
+            ASSERT_EQ(x.covered, y.covered);
+            ASSERT_EQ(x.fragments.size(), y.fragments.size()) << d << " tile " << t;
+            for (size_t k = 0; k < x.fragments.size(); ++k) {
+                const Fragment &p = x.fragments[k], &q = y.fragments[k];
+                EXPECT_TRUE(p.face == q.face && p.row_begin == q.row_begin && p.rows == q.rows &&
+                            p.span_offset == q.span_offset && p.ray_offset == q.ray_offset &&
+                            p.covered == q.covered && p.facing == q.facing);
+            }
+            ASSERT_EQ(x.spans.size(), y.spans.size());
+            for (size_t k = 0; k < x.spans.size(); ++k)
+                EXPECT_TRUE(x.spans[k].begin == y.spans[k].begin &&
+                            x.spans[k].end == y.spans[k].end);
+        }
+    }
+    EXPECT_GT(skipped, uint64_t(dirs.size()) * 200);  // the case is exercised
 }
 
 }  // namespace

@@ -53,7 +53,6 @@ struct RayCaster::Impl {
         int twin;
     };
     std::vector<HitFace> faces;  // per face id
-    bool filters = false;        // the library runs context filter functions
     std::mutex error_mutex;
     std::string error;  // first message reported by Embree's error callback
 
@@ -129,11 +128,11 @@ RayCaster::RayCaster(const Scene& scene, int without_object)
     im.check("scene creation");
     if (!im.scene) throw Error("ray caster: Embree returned no scene");
     // Robust traversal: no ray slips through the shared edges of a fan or of a mesh.
-    im.filters =
-        rtcGetDeviceProperty(im.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) != 0;
-    rtcSetSceneFlags(im.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST |
-                                             (im.filters ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
-                                                         : RTC_SCENE_FLAG_NONE)));
+    // intersect_past drops hits by a context filter (Debian's library has them).
+    if (rtcGetDeviceProperty(im.device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED) == 0)
+        throw Error("ray caster: this Embree library was built without filter functions");
+    rtcSetSceneFlags(im.scene,
+                     RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
     rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
     if (m_triangles > 0) {
         RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -214,21 +213,6 @@ bool RayCaster::intersect_past(int skip, const Vec3& origin, const Vec3& dir, do
                                double tmax, RayHit& hit) const {
     hit = RayHit{};
     if (m_triangles == 0 || !valid_query(origin, dir, tmin, tmax)) return false;
-    if (skip >= 0 && !m_impl->filters) {
-        // A library without filter functions: cast again past each hit on the face.
-        const int twin = m_impl->faces[size_t(skip)].twin;
-        Vec3 o = origin;
-        for (int attempt = 0; attempt < 8; ++attempt) {
-            if (!intersect_past(-1, o, dir, tmin, tmax, hit)) return false;
-            if (hit.face != skip && hit.face != twin) {
-                hit.t = glm::dot(hit.point - origin, dir) / glm::dot(dir, dir);
-                return true;
-            }
-            o += (std::max(hit.t, 0.0) + 1e-6) * dir;
-        }
-        hit = RayHit{};
-        return false;
-    }
     SkipContext sc;  // per call: queries share nothing mutable
     RTCIntersectContext& ctx = sc.ctx;
     rtcInitIntersectContext(&ctx);

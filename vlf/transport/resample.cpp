@@ -127,12 +127,11 @@ bool SpecularResampler::face(int d, int fid, const FaceRaster& fr) const {
     const PlaneInPsf plane(scene.faces[size_t(fid)], rot, N);
     const std::vector<size_t>& offset = m_transport.texture_maps().offset;
     const uint64_t base = maps.begin(d, fid);
+    const PathTracer tracer{scene, m_caster, &m_outward, m_radiance, offset, kResampleMaxBounces};
     uint64_t k = 0;  // face-local ray order: fragments in tile order, edge-table order
     for (const FaceFragment& ff : fr.fragments)
         fr.edge_table(ff).for_each_ray([&](int u, int v, int) {
             const Vec3 point = plane.point(ff.s * m + u, ff.t * m + v);
-            const PathTracer tracer{scene,      m_caster, &m_outward,
-                                    m_radiance, offset,   kResampleMaxBounces};
             const Rgb L = tracer.leaving(fid, point, travel, 1.0, 0);
             maps.total[base + k++] = RgbF(L);
         });
