@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "vlf/core/rotation.hpp"
 #include "vlf/scene/sealed_areas.hpp"
@@ -88,6 +89,10 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
     for (const Chart& c : scene.charts)
         if (scene.material_of(c).is_diffuse()) diffuse_area += c.area;
     auto brightest = [](const Rgb& c) { return std::max({c.x, c.y, c.z}); };
+    m_lo = Vec3(std::numeric_limits<double>::infinity());
+    m_hi = -m_lo;
+    for (const Face& f : scene.faces)
+        for (const Vec3& v : f.vertices) m_lo = glm::min(m_lo, v), m_hi = glm::max(m_hi, v);
     m_surface.resize(scene.faces.size());
     for (const Face& f : scene.faces) {
         const Chart& c = scene.chart_of(f);
@@ -182,6 +187,37 @@ bool LightBeams::meets_nothing(const Source& s, const Rect& r) const {
         for (int i = i0; i <= i1; ++i)
             if (s.shadow[size_t(j) * kShadowGrid + size_t(i)]) return false;
     return true;
+}
+
+bool LightBeams::misses_bounds(const Source& s, const Vec3 d[5]) const {
+    if (s.parallel || !(m_lo.x <= m_hi.x)) return false;
+    // Margins far above rounding, far below a texel: a pyramid that only grazes the box
+    // is not taken as missing it.
+    const double eps = 1e-9;
+    const Vec3& e = s.position;
+    // A face plane of the box with the light outside it and every corner ray heading
+    // away from the box (the pyramid is convex: its corner rays span it).
+    for (int a = 0; a < 3; ++a) {
+        bool above = e[a] > m_hi[a] + eps, below = e[a] < m_lo[a] - eps;
+        for (int k = 1; k < 5; ++k) above &= d[k][a] >= 0.0, below &= d[k][a] <= 0.0;
+        if (above || below) return true;
+    }
+    // A side plane of the pyramid (through the light and two neighbouring corner rays)
+    // with every corner of the box strictly outside it.
+    for (int k = 1; k < 5; ++k) {
+        const Vec3 n = glm::cross(d[k], d[k % 4 + 1]);
+        const double centre = glm::dot(n, d[0]);  // the centre ray's side
+        if (!(std::abs(centre) > 0.0)) continue;
+        const double inside = centre > 0.0 ? 1.0 : -1.0;
+        bool outside = true;
+        for (int c = 0; c < 8 && outside; ++c) {
+            const Vec3 p((c & 1) ? m_hi.x : m_lo.x, (c & 2) ? m_hi.y : m_lo.y,
+                         (c & 4) ? m_hi.z : m_lo.z);
+            outside = glm::dot(n, p - e) * inside < -eps * glm::length(n);
+        }
+        if (outside) return true;
+    }
+    return false;
 }
 
 void LightBeams::ray(const Source& s, const Segment&, int side, double u, double v, Vec3& o,
@@ -393,11 +429,15 @@ void LightBeams::trace(const Source& s, const Rect& r, const Segment& g, const R
         else  // a corner ray misses the plane ahead (a grazing or cut beam): as at an edge
             split |= width > (dim ? kDimEdgeTexels : kEdgeTexels) * m_texel;
     }
-    if (cls[0] == -1 && !split && !(g.count == 0 && meets_nothing(s, r))) {
+    if (cls[0] == -1 && !split && !(g.count == 0 && (meets_nothing(s, r) || misses_bounds(s, d)))) {
         // A beam that meets nothing with all its rays may still hold a corner of the scene
         // poking in between them: it splits until it is as narrow as a leaf where it
-        // crosses the scene (the unit ball). Straight from a parallel light, a beam whose
-        // cross-section covers no face's shadow cannot: it ends here (shadow grid).
+        // crosses the scene (the unit ball). Straight from a light, a beam that cannot
+        // reach a face ends here: from a parallel light, one whose cross-section covers no
+        // face's shadow (shadow grid); from a point or spot light, one whose pyramid is
+        // disjoint from the box around the faces (misses_bounds). A light outside that box
+        // (above an open scene, outside a window) sends most of its beams past it, each of
+        // which would split down to the leaves' width at the scene's distance.
         const double across =
             s.parallel ? r.u1 - r.u0 : (r.u1 - r.u0) * (glm::length(s.position) + 1.0);
         split = across > (dim ? kDimEdgeTexels : kMissTexels) * m_texel;

@@ -122,6 +122,10 @@ class LightBeams {
              Vec3& d) const;
     void fill_shadow(Source& s) const;
     bool meets_nothing(const Source& s, const Rect& r) const;
+    // A beam straight from a point or spot light (corner rays `d[1..4]` from s.position,
+    // counter-clockwise; d[0] its centre) whose pyramid is disjoint from the box around
+    // every face: no ray of it meets anything.
+    bool misses_bounds(const Source& s, const Vec3 d[5]) const;
     void child_weights(const Source& s, const Rect& r, double w[4]) const;
     // A ray of a beam and what it met (cls: the chart of the front face it meets, -1 none,
     // -2 a back face, -3 it missed a surface of its segment's events: beyond a mirror's rim,
@@ -156,6 +160,7 @@ class LightBeams {
     const std::vector<FaceInTexels>& m_polygons;
     double m_reach;
     double m_texel = 0.0;        // the scene's texel size, normalised units
+    Vec3 m_lo{0.0}, m_hi{0.0};   // the box around every face's vertices, normalised units
     std::vector<int> m_surface;  // per face, surface_key
     std::vector<Source> m_sources;
     std::vector<int64_t> m_first;  // per source, one past its last root beam (prefix sums)
