@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "test_util.hpp"
+#include "vlf/scene/scene.hpp"
 #include "vlf/scene/texel_frame.hpp"
 
 namespace vlf {
@@ -42,6 +43,43 @@ double signed_volume(const std::vector<Polygon>& faces) {
     double v = 0;
     for (const Polygon& p : faces) v += glm::dot(newell_vector(p), polygon_centroid(p)) / 6.0;
     return v;
+}
+
+// Mean value coordinates (polygon_weights, the shading normals of smooth quads and polygons):
+// they sum to 1 and reproduce the point (linear precision) inside a convex polygon, are 1/m
+// at a regular polygon's centre, and take a vertex or an edge's endpoints exactly there;
+// checked for a pentagon and for a 24-gon (more corners than its stack scratch holds).
+TEST(PolygonWeights, PartitionOfUnityAndLinearPrecision) {
+    for (const int m : {5, 24}) {
+        std::vector<Vec3> v;
+        for (int i = 0; i < m; ++i) {
+            const double a = 2.0 * kPi * i / m;
+            v.push_back(Vec3(std::cos(a), std::sin(a), 0.25));
+        }
+        const Vec3 n(0.0, 0.0, 1.0);
+        std::vector<double> w;
+        polygon_weights(v, n, Vec3(0.0, 0.0, 0.25), w);
+        ASSERT_EQ(w.size(), size_t(m));
+        for (double wi : w) EXPECT_NEAR(wi, 1.0 / m, 1e-12) << m << " corners";
+        for (const Vec3 x :
+             {Vec3(0.3, -0.2, 0.25), Vec3(-0.55, 0.41, 0.25), Vec3(0.8, 0.1, 0.25)}) {
+            polygon_weights(v, n, x, w);
+            double sum = 0.0;
+            Vec3 at(0.0);
+            for (int i = 0; i < m; ++i) {
+                EXPECT_GT(w[size_t(i)], 0.0);
+                sum += w[size_t(i)];
+                at += w[size_t(i)] * v[size_t(i)];
+            }
+            EXPECT_NEAR(sum, 1.0, 1e-12);
+            EXPECT_NEAR(glm::length(at - x), 0.0, 1e-12) << m << " corners";
+        }
+        polygon_weights(v, n, v[3], w);
+        for (int i = 0; i < m; ++i) EXPECT_EQ(w[size_t(i)], i == 3 ? 1.0 : 0.0);
+        polygon_weights(v, n, 0.25 * v[1] + 0.75 * v[2], w);
+        EXPECT_NEAR(w[1], 0.25, 1e-12);
+        EXPECT_NEAR(w[2], 0.75, 1e-12);
+    }
 }
 
 TEST(PrimitiveBox, SixOutwardQuadsWithTheRightArea) {

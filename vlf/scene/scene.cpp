@@ -65,13 +65,25 @@ void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
         w = {t[0], t[1], t[2]};
         return;
     }
-    std::vector<Vec3> d(m);
-    std::vector<double> r(m), t(m);
+    // Scratch on the stack for the usual few corners (this runs for every ray that meets a
+    // smooth quad or polygon: the heap's malloc and free were a fifth of a light's shot
+    // through a torus of smooth quads).
+    constexpr size_t kSmall = 16;
+    Vec3 d_small[kSmall];
+    double r_small[kSmall], t_small[kSmall];
+    std::vector<Vec3> d_large;
+    std::vector<double> r_large, t_large;
+    Vec3* d = d_small;
+    double *r = r_small, *t = t_small;
+    if (m > kSmall) {
+        d_large.resize(m), r_large.resize(m), t_large.resize(m);
+        d = d_large.data(), r = r_large.data(), t = t_large.data();
+    }
     for (size_t i = 0; i < m; ++i) {
         d[i] = v[i] - x;
         r[i] = glm::length(d[i]);
     }
-    const double scale = *std::max_element(r.begin(), r.end());
+    const double scale = *std::max_element(r, r + m);
     for (size_t i = 0; i < m; ++i)
         if (r[i] <= 1e-12 * scale) {  // at vertex i
             w[i] = 1.0;
