@@ -56,13 +56,18 @@ const Chart& floor_chart(const Scene& scene) {
 // A point light (intensity I, user units) over the floor: a texel's mean irradiance is I x
 // its solid angle / its area (cube_solid_angle: the texel on the plane at distance h, scaled
 // by 1/h). Checks every texel within 1 % and the ledger; returns the shot's beam counts.
-LightBeamStats check_point_light(const Vec3& light, double I) {
+// `objects` (more objects, each after a comma) must cast no shadow on the floor; `check`
+// then looks at the finished transport.
+template <class Check>
+LightBeamStats check_point_light(const Vec3& light, double I, const std::string& objects,
+                                 Check&& check) {
     char json[160];
     std::snprintf(json, sizeof json,
                   R"({"type": "point", "position": [%g, %g, %g], "intensity": [%g, %g, %g]})",
                   light.x, light.y, light.z, I, I, I);
-    const Scene scene = scene_from_json(floor_scene("", json));
+    const Scene scene = scene_from_json(floor_scene(objects, json));
     const auto t = run_transport(scene, params(33, 64, 8, 1));
+    check(scene, *t);
     const Chart& c = floor_chart(scene);
     double worst = 0.0;
     int checked = 0;
@@ -91,21 +96,52 @@ LightBeamStats check_point_light(const Vec3& light, double I) {
 }
 
 TEST(LightTransport, PointLightIrradiancePerTexel) {
-    check_point_light(Vec3(0.3, 0.7, -0.2), 2.0);
+    check_point_light(Vec3(0.3, 0.7, -0.2), 2.0, "", [](const Scene&, const Transport&) {});
+}
+
+// The solid angle of triangle abc seen from e (Van Oosterom and Strackee).
+double triangle_solid_angle(const Vec3& e, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
+    const Vec3 a = a0 - e, b = b0 - e, c = c0 - e;
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const double num = glm::dot(a, glm::cross(b, c));
+    const double den =
+        la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
+    return 2.0 * std::abs(std::atan2(num, den));
 }
 
 // A light far outside the box around the faces (above an open scene, outside a window)
 // sends most of its beams past it. Such a beam cannot hold a corner of the scene between
 // its rays, so it escapes whole (LightBeams::misses_bounds) instead of splitting down to
-// the leaves' width at the scene's distance: at 20 units over the 4 x 4 floor, 6 x 114^2
-// root beams, of which the ones that miss (all but a few hundred) split into thousands of
+// the leaves' width at the scene's distance: at 20 units over the 4 x 4 floor alone, the
+// beams that miss (all but a few hundred of the 6 x 114^2 roots) split into thousands of
 // leaves each before: 1.28e9 leaves in 204 s, against 2.4e5 in 0.14 s now, the same worst
 // texel (7.9e-6). The floor's texels stay exact, and the shot's leaves stay under 1e6: the
-// roots, the floor's 6,400 texels at up to 16 leaves each (footprints of half a texel on a
-// quadtree not aligned with them) and its rim at 1/32 texel.
+// 1.0e5 roots, the floor's 6,400 texels at up to 16 leaves each (footprints of half a texel
+// on a quadtree not aligned with them), its rim and the chip's (below) at 1/32 texel, and
+// the beams around the chip split to 1/8 texel.
+// Beside the floor, a chip (a triangle 6 cm across, its shadow off the floor) lies inside one
+// root beam (35 cm wide there): where the beam's five rays all pass it, only the splitting
+// of beams that meet nothing finds it, so a beam wrongly taken as missing the box would
+// lose its light. The chip receives I times its solid angle within 1 %.
 TEST(LightTransport, FarPointLightSendsItsMissingBeamsWhole) {
-    const LightBeamStats beams = check_point_light(Vec3(0.3, 20.0, -0.2), 500.0);
-    EXPECT_EQ(beams.roots, 6 * 114 * 114);
+    const Vec3 light(0.3, 20.0, -0.2), a(3.0, 1.0, 0.0), b(3.0, 1.0, 0.06), c(3.06, 1.0, 0.0);
+    const double I = 500.0;
+    const std::string chip =
+        R"(, {"type": "polygon", "material": "white", "name": "chip",
+              "vertices": [[3.0, 1.0, 0.0], [3.0, 1.0, 0.06], [3.06, 1.0, 0.0]]})";
+    const LightBeamStats beams =
+        check_point_light(light, I, chip, [&](const Scene& scene, const Transport& t) {
+            const Chart& ch =
+                scene.chart_of(scene.faces[size_t(test::object_named(scene, "chip").first_face)]);
+            double power = 0.0;  // rho_d of the light it receives is in P^T (user units)
+            for (size_t k = 0; k < size_t(ch.texels.count()); ++k)
+                power += t.texture_maps().total[t.texture_maps().begin(ch.id) + k].x / 0.5;
+            power /= scene.normalisation.scale * scene.normalisation.scale;
+            const double exact = I * triangle_solid_angle(light, a, b, c);
+            EXPECT_NEAR(power / exact, 1.0, 0.01) << power << " W against " << exact;
+            std::printf("the chip: %.6g W against %.6g W\n", power, exact);
+        });
+    std::printf("%lld root beams\n", static_cast<long long>(beams.roots));
     EXPECT_LT(beams.leaves, 1000000);
 }
 

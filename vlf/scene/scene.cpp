@@ -66,7 +66,7 @@ void polygon_weights(const std::vector<Vec3>& v, const Vec3& n, const Vec3& x,
         return;
     }
     // Scratch on the stack for the usual few corners (this runs for every ray that meets a
-    // smooth quad or polygon: the heap's malloc and free were a fifth of a light's shot
+    // smooth quad or polygon: the heap's malloc and free were 5 % of a light's shot
     // through a torus of smooth quads).
     constexpr size_t kSmall = 16;
     Vec3 d_small[kSmall];

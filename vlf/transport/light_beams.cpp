@@ -191,9 +191,10 @@ bool LightBeams::meets_nothing(const Source& s, const Rect& r) const {
 
 bool LightBeams::misses_bounds(const Source& s, const Vec3 d[5]) const {
     if (s.parallel || !(m_lo.x <= m_hi.x)) return false;
-    // Margins far above rounding, far below a texel: a pyramid that only grazes the box
-    // is not taken as missing it.
-    const double eps = 1e-9;
+    // Margins above the ray caster's single-precision geometry (about 1e-7 of the scene,
+    // raycaster.hpp), far below a texel: a pyramid that only grazes the box is not taken as
+    // missing it.
+    const double eps = 1e-6;
     const Vec3& e = s.position;
     // A face plane of the box with the light outside it and every corner ray heading
     // away from the box (the pyramid is convex: its corner rays span it).
