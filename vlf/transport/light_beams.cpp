@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "vlf/core/rotation.hpp"
 #include "vlf/scene/sealed_areas.hpp"
@@ -89,10 +88,9 @@ LightBeams::LightBeams(const Scene& scene, const RayCaster& caster, const Textur
     for (const Chart& c : scene.charts)
         if (scene.material_of(c).is_diffuse()) diffuse_area += c.area;
     auto brightest = [](const Rgb& c) { return std::max({c.x, c.y, c.z}); };
-    m_lo = Vec3(std::numeric_limits<double>::infinity());
-    m_hi = -m_lo;
-    for (const Face& f : scene.faces)
-        for (const Vec3& v : f.vertices) m_lo = glm::min(m_lo, v), m_hi = glm::max(m_hi, v);
+    // The loader's bounds of the faces, normalised (misses_bounds' margin covers rounding).
+    m_lo = scene.normalisation.to_normalised(scene.user_bounds_min);
+    m_hi = scene.normalisation.to_normalised(scene.user_bounds_max);
     m_surface.resize(scene.faces.size());
     for (const Face& f : scene.faces) {
         const Chart& c = scene.chart_of(f);
@@ -190,7 +188,7 @@ bool LightBeams::meets_nothing(const Source& s, const Rect& r) const {
 }
 
 bool LightBeams::misses_bounds(const Source& s, const Vec3 d[5]) const {
-    if (s.parallel || !(m_lo.x <= m_hi.x)) return false;
+    if (s.parallel) return false;
     // Margins above the ray caster's single-precision geometry (about 1e-7 of the scene,
     // raycaster.hpp), far below a texel: a pyramid that only grazes the box is not taken as
     // missing it.
