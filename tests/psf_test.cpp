@@ -290,5 +290,49 @@ TEST(PsfCoverage, FacesTheCountFoundEmptyAreSkippedForTheSamePsf) {
     EXPECT_GT(skipped, uint64_t(dirs.size()) * 200);  // the case is exercised
 }
 
+TEST(PsfTwins, ATwinHasItsFacesRasterFacingTheOtherWay) {
+    // TwinRasters hands a glass face's raster to its inner twin, and measure_coverage copies
+    // its count: both must equal rasterising the twin itself (rasterise_face, count_covered)
+    // in every direction, with the twin's own facing. Every third outer face is left out of
+    // the pass (a face whose coverage is 0 is not rasterised), so its twin rasterises alone.
+    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
+    const DirectionSet dirs(129);
+    std::vector<Mat3> rot(size_t(dirs.size()));
+    for (int d = 0; d < dirs.size(); ++d) rot[size_t(d)] = rotation_to_z(dirs.direction(d));
+    const int N = 32, m = 8;
+    const Coverage cov = measure_coverage(s, rot, N, std::vector<uint8_t>(s.faces.size(), 1));
+    TwinRasters twins;
+    FaceRaster got, want;
+    uint64_t shared = 0, twin_faces = 0;
+    for (int d = 0; d < dirs.size(); ++d) {
+        twins.clear();
+        for (const Face& f : s.faces) {
+            if (f.twin > f.id && f.id % 3 == 0) continue;  // left out: its twin goes alone
+            twins.rasterise(f, rot[size_t(d)], N, m, got);
+            rasterise_face(f, rot[size_t(d)], N, m, want);
+            ASSERT_EQ(got.facing, want.facing) << d << " face " << f.id;
+            ASSERT_EQ(got.covered, want.covered) << d << " face " << f.id;
+            ASSERT_EQ(cov(d, f.id), want.covered) << d << " face " << f.id;
+            ASSERT_EQ(got.fragments.size(), want.fragments.size());
+            for (size_t k = 0; k < got.fragments.size(); ++k) {
+                const FaceFragment &p = got.fragments[k], &q = want.fragments[k];
+                EXPECT_TRUE(p.s == q.s && p.t == q.t && p.row_begin == q.row_begin &&
+                            p.rows == q.rows && p.span_offset == q.span_offset &&
+                            p.covered == q.covered);
+            }
+            ASSERT_EQ(got.spans.size(), want.spans.size());
+            for (size_t k = 0; k < got.spans.size(); ++k)
+                EXPECT_TRUE(got.spans[k].begin == want.spans[k].begin &&
+                            got.spans[k].end == want.spans[k].end);
+            if (f.twin >= 0 && f.twin < f.id) {
+                ++twin_faces;
+                shared += want.covered > 0 && f.twin % 3 != 0;
+            }
+        }
+    }
+    EXPECT_GT(twin_faces, 0u);
+    EXPECT_GT(shared, uint64_t(dirs.size()) * 20);  // rasters handed over: the case is run
+}
+
 }  // namespace
 }  // namespace vlf

@@ -68,12 +68,13 @@ struct Sample {
 // rotation recovers the pixel of every entry. With a resampler, each face it resamples is
 // resampled from that raster first.
 void face_samples(const Scene& scene, const PropagateParams& params, const Transport& transport,
-                  const SpecularResampler* resampler, int d, FaceRaster& raster,
+                  const SpecularResampler* resampler, int d, TwinRasters& twins, FaceRaster& raster,
                   std::vector<Sample>& samples) {
     const int N = params.field.resolution, m = params.field.tile;
     const RadianceMaps& spec = transport.specular_maps();
     const RadianceMaps& other = transport.other_maps();
     samples.clear();
+    twins.clear();
     // The stored faces in ascending face id (per-pixel order is by face): the two maps' face
     // lists, each ascending and disjoint (a face is specular or not), merged; a walk over
     // all the scene's faces would read every Face of a million-triangle scene in every
@@ -87,7 +88,7 @@ void face_samples(const Scene& scene, const PropagateParams& params, const Trans
         const RadianceMaps* maps = specular ? &spec : &other;
         const uint64_t begin = maps->begin(d, f.id), count = maps->count(d, f.id);
         if (count == 0) continue;  // no ray here (most of a tessellated ball's faces)
-        rasterise_face(f, transport.rotations()[d], N, m, raster);
+        twins.rasterise(f, transport.rotations()[d], N, m, raster);
         VLF_CHECK(raster.covered == count);
         if (resampler != nullptr && maps == &spec) resampler->face(d, f.id, raster);
         uint64_t k = begin;
@@ -107,6 +108,7 @@ RaySource rays_of(const Scene& scene, const PropagateParams& params, const Trans
     // face order) gives the layered depth image. Each thread has its own scratch: the bake
     // writer asks for several directions at once.
     struct State {
+        TwinRasters twins;
         FaceRaster raster;
         std::vector<Sample> samples;
         std::vector<uint32_t> cursor;
@@ -116,7 +118,7 @@ RaySource rays_of(const Scene& scene, const PropagateParams& params, const Trans
         const int N = params.field.resolution;
         const size_t px = size_t(N) * N;
         State& st = state->local();
-        face_samples(scene, params, transport, tracing ? &tracing->resampler : nullptr, d,
+        face_samples(scene, params, transport, tracing ? &tracing->resampler : nullptr, d, st.twins,
                      st.raster, st.samples);
         out.counts.assign(px, 0);
         for (const Sample& s : st.samples) ++out.counts[s.pixel];

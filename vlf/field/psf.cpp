@@ -60,11 +60,13 @@ Psf rasterise_psf(const Scene& scene, const Mat3& rotation, int direction, int r
 
     std::vector<ScratchTile> grid(static_cast<size_t>(n) * n);
     FaceRaster fr;
+    thread_local TwinRasters twins;
+    twins.clear();
     for (const Face& face : scene.faces) {
         if (coverage != nullptr && coverage->measured(face.id) &&
             (*coverage)(direction, face.id) == 0)
             continue;  // count_covered found no ray: rasterise_face would make no fragment
-        rasterise_face(face, rotation, N, m, fr);
+        twins.rasterise(face, rotation, N, m, fr);
         for (const FaceFragment& ff : fr.fragments) {
             ScratchTile& tile = grid[static_cast<size_t>(ff.t) * n + ff.s];
             Fragment frag;
@@ -229,7 +231,7 @@ void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int 
     out.covered = 0;
     out.facing = 0;
     const Vec3 nr = rotation * face.normal;
-    if (std::abs(nr.z) < 1e-12) return;  // edge-on: covers no ray
+    if (std::abs(nr.z) < kEdgeOnCosine) return;  // edge-on: covers no ray
     out.facing = nr.z > 0 ? 1 : -1;
 
     int jlo = 0, jhi = 0;
@@ -242,7 +244,7 @@ void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int 
 
 uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution) {
     const int N = resolution;
-    if (std::abs((rotation * face.normal).z) < 1e-12) return 0;  // as rasterise_face
+    if (std::abs((rotation * face.normal).z) < kEdgeOnCosine) return 0;  // as rasterise_face
     int jlo = 0, jhi = 0;
     if (!face_rows(face, rotation, N, jlo, jhi)) return 0;
     // Every covered ray of a row lies in one of the tiles rasterise_face cuts it into.
@@ -250,6 +252,41 @@ uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution) {
     for (int j = jlo; j < jhi; ++j)
         if (t_row_i1[j] > t_row_i0[j]) covered += uint32_t(t_row_i1[j] - t_row_i0[j]);
     return covered;
+}
+
+void TwinRasters::rasterise(const Face& face, const Mat3& rotation, int resolution, int tile_size,
+                            FaceRaster& out) {
+    const int twin = face.twin;
+    if (twin >= 0 && twin < face.id && size_t(twin) < m_kept_at.size() &&
+        m_kept_at[size_t(twin)] >= 0) {
+        const FaceRaster& kept = m_kept[size_t(m_kept_at[size_t(twin)])];
+        const double z = (rotation * face.normal).z;
+        // Each face's own normal decides edge-on (the two normals are computed apart).
+        if (std::abs(z) >= kEdgeOnCosine) {
+            out.fragments.assign(kept.fragments.begin(), kept.fragments.end());
+            out.spans.assign(kept.spans.begin(), kept.spans.end());
+            out.covered = kept.covered;
+            out.facing = z > 0 ? 1 : -1;
+            return;
+        }
+    }
+    rasterise_face(face, rotation, resolution, tile_size, out);
+    if (twin <= face.id || out.facing == 0) return;
+    if (m_kept_at.size() <= size_t(twin)) m_kept_at.resize(size_t(twin) + 1, -1);
+    if (m_count == m_kept.size()) m_kept.emplace_back();
+    FaceRaster& keep = m_kept[m_count];
+    keep.fragments.assign(out.fragments.begin(), out.fragments.end());
+    keep.spans.assign(out.spans.begin(), out.spans.end());
+    keep.covered = out.covered;
+    keep.facing = out.facing;
+    m_kept_at[size_t(face.id)] = int32_t(m_count++);
+    m_kept_faces.push_back(face.id);
+}
+
+void TwinRasters::clear() {
+    for (int32_t f : m_kept_faces) m_kept_at[size_t(f)] = -1;
+    m_kept_faces.clear();
+    m_count = 0;
 }
 
 PsfMemory memory_of(const Psf& psf) {

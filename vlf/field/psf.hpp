@@ -99,6 +99,9 @@ struct PlaneInPsf {
     int N;
 };
 
+// |n . omega| below which a face is edge-on and covers no ray.
+inline constexpr double kEdgeOnCosine = 1e-12;
+
 // Rasterise every face of the scene for direction omega (unit). Faces seen edge-on
 // (|n.omega| < 1e-12) cover no ray.
 Psf rasterise_psf(const Scene& scene, const Vec3& omega, int direction, int resolution,
@@ -134,6 +137,28 @@ void rasterise_face(const Face& face, const Mat3& rotation, int resolution, int 
 // The rays the face covers in that frame (rasterise_face's `covered`) without the
 // fragments: for a caller that only counts.
 uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution);
+
+// A face and its twin (Face::twin: glass, two-sided objects) are one polygon, their vertices
+// the same points in reverse order, and a raster depends on the points alone (row_spans
+// orders each edge's ends): the twin covers the same rays in the same fragments and faces
+// the other way. For a pass over one direction's faces in ascending id, this keeps the
+// raster of each face whose twin comes later and hands it to the twin, instead of
+// rasterising the polygon twice (a glass ball's inner faces are half its faces).
+class TwinRasters {
+  public:
+    // Rasterises `face` (as rasterise_face) or copies its twin's kept raster; `face` must
+    // not come before a face given since the last clear() in id order.
+    void rasterise(const Face& face, const Mat3& rotation, int resolution, int tile_size,
+                   FaceRaster& out);
+    // Forgets the kept rasters (a new direction or rotation).
+    void clear();
+
+  private:
+    std::vector<int32_t> m_kept_at;  // per face id: index into m_kept, or -1
+    std::vector<int32_t> m_kept_faces;
+    std::vector<FaceRaster> m_kept;  // reused from direction to direction
+    size_t m_count = 0;
+};
 
 // Bytes held by the PSF's tiles, fragments and edge tables.
 struct PsfMemory {

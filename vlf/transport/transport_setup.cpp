@@ -27,9 +27,19 @@ Coverage measure_coverage(const Scene& scene, const std::vector<Mat3>& rotations
         }
     cov.count.assign(rotations.size() * size_t(cov.rows), 0);
     parallel_for(0, static_cast<long>(rotations.size()), [&](long d) {
-        for (int k = 0; k < cov.rows; ++k)
-            cov.count[size_t(d) * cov.rows + k] =
-                count_covered(scene.faces[faces[k]], rotations[d], N);
+        uint32_t* count = cov.count.data() + size_t(d) * cov.rows;
+        for (int k = 0; k < cov.rows; ++k) {
+            const Face& f = scene.faces[faces[k]];
+            // A twin covers its face's rays (one polygon: TwinRasters), unless either is
+            // edge-on by its own normal.
+            if (f.twin >= 0 && f.twin < f.id && cov.row[size_t(f.twin)] >= 0 &&
+                std::abs((rotations[d] * f.normal).z) >= kEdgeOnCosine &&
+                std::abs((rotations[d] * scene.faces[size_t(f.twin)].normal).z) >= kEdgeOnCosine) {
+                count[k] = count[cov.row[size_t(f.twin)]];
+                continue;
+            }
+            count[k] = count_covered(f, rotations[d], N);
+        }
     });
     return cov;
 }
