@@ -141,16 +141,17 @@ uint32_t count_covered(const Face& face, const Mat3& rotation, int resolution);
 // A face and its twin (Face::twin: glass, two-sided objects) are one polygon, their vertices
 // the same points in reverse order, and a raster depends on the points alone (row_spans
 // orders each edge's ends): the twin covers the same rays in the same fragments and faces
-// the other way. For a pass over one direction's faces in ascending id, this keeps the
-// raster of each face whose twin comes later and hands it to the twin, instead of
-// rasterising the polygon twice (a glass ball's inner faces are half its faces).
+// the other way. Within one direction, this keeps the raster of each face whose twin has a
+// greater id and hands it to the twin, instead of rasterising the polygon twice (a glass
+// ball's inner faces are half its faces, their ids after the outer ones').
 class TwinRasters {
   public:
-    // Rasterises `face` (as rasterise_face) or copies its twin's kept raster; `face` must
-    // not come before a face given since the last clear() in id order.
+    // Rasterises `face` (as rasterise_face) or copies its twin's raster, kept when the twin
+    // was given since the last clear(). Every call since then must have the same rotation,
+    // resolution and tile size.
     void rasterise(const Face& face, const Mat3& rotation, int resolution, int tile_size,
                    FaceRaster& out);
-    // Forgets the kept rasters (a new direction or rotation).
+    // Forgets the kept rasters (before another direction or rotation).
     void clear();
 
   private:

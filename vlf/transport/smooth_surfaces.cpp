@@ -31,7 +31,7 @@ SmoothSurfaces find_smooth_surfaces(const Scene& scene, const DirectionSet& dirs
 
 void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, const RadianceMaps& maps,
                   int surface, int d, const Mat3& rotation, const Vec3& omega, int N, int m,
-                  SurfaceRays& out) {
+                  TwinRasters& twins, SurfaceRays& out) {
     out.rays.clear();
     FaceRaster fr;
     int imin = N, imax = -1, jmin = N, jmax = -1;
@@ -40,7 +40,7 @@ void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, const Radi
         if (glm::dot(face.normal, omega) <= 0.0) continue;
         const uint64_t count = maps.count(d, f);
         if (count == 0) continue;  // (most of a tessellated ball's faces, in any direction)
-        rasterise_face(face, rotation, N, m, fr);
+        twins.rasterise(face, rotation, N, m, fr);
         VLF_CHECK(fr.covered == count);
         uint32_t k = 0;
         for (const FaceFragment& ff : fr.fragments)

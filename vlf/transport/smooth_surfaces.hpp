@@ -76,8 +76,9 @@ inline Vec3 surface_ray_point(const Scene& scene, const Mat3& rotation, int N,
 // The rays of `surface` in PSF d (its `rotation`) whose faces show their front along
 // `omega` (the travel direction), on the N x N grid. `maps` stores the surface's faces (its
 // layout counts their rays in every direction): a face without rays in d is not rasterised.
+// `twins` (cleared for this rotation) keeps the rasters a glass surface's inner twins take.
 void surface_rays(const Scene& scene, const SmoothSurfaces& surfaces, const RadianceMaps& maps,
                   int surface, int d, const Mat3& rotation, const Vec3& omega, int N, int m,
-                  SurfaceRays& out);
+                  TwinRasters& twins, SurfaceRays& out);
 
 }  // namespace vlf

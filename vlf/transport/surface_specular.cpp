@@ -601,12 +601,12 @@ void deposit(const std::vector<Rgb>& acc, const SurfaceRays& rays, int d, double
 // for; only d's task asks for them).
 SurfaceRays& rays_of(const Scene& scene, const DirectionSet& dirs, const SmoothSurfaces& surfaces,
                      const RadianceMaps& maps, const Mat3& rot, int N, int m, int surface, int d,
-                     int sense, SurfaceRayCache& cache) {
+                     int sense, TwinRasters& twins, SurfaceRayCache& cache) {
     const size_t slot = surfaces.slot(surface, d, sense);
     SurfaceRays& rays = cache.rays[slot];
     if (!cache.built[slot]) {
         surface_rays(scene, surfaces, maps, surface, d, rot, dirs.direction(d) * double(sense), N,
-                     m, rays);
+                     m, twins, rays);
         cache.built[slot] = 1;
     }
     return rays;
@@ -693,8 +693,11 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
     // would copy it and fault in fresh pages at every doubling).
     tbb::enumerable_thread_specific<SurfaceGatherPlan> scratch;
     tbb::enumerable_thread_specific<std::vector<Vec3>> scratch_points;
+    tbb::enumerable_thread_specific<TwinRasters> scratch_twins;
     parallel_for(maps.first, maps.last, [&](long d) {
         std::vector<Segment>& segments = in.segments[size_t(d)];
+        TwinRasters& twins = scratch_twins.local();  // this direction's rasters
+        twins.clear();
         if (keep) cache.gathers[size_t(d)].clear();
         SurfaceGatherPlan& plan = scratch.local();
         plan.clear();
@@ -708,8 +711,8 @@ std::vector<Rgb> gather_surface_sources(const Scene& scene, const DirectionSet& 
             for (const Segment& sg : segments) n += sg.ref_begin[g + 1] - sg.ref_begin[g];
             if (n == 0) continue;
             const int surface = int(g / 2), sense = (g & 1u) ? 1 : -1;
-            const SurfaceRays& rays = *group_rays.emplace_back(
-                &rays_of(scene, dirs, surfaces, maps, rot, N, m, surface, int(d), sense, cache));
+            const SurfaceRays& rays = *group_rays.emplace_back(&rays_of(
+                scene, dirs, surfaces, maps, rot, N, m, surface, int(d), sense, twins, cache));
             points.resize(rays.rays.size());
             for (size_t k = 0; k < rays.rays.size(); ++k)
                 points[k] = surface_ray_point(scene, rot, N, rays.rays[k]);
