@@ -253,22 +253,31 @@ TEST(PsfParameters, BadResolutionAndTileFailBeforeWork) {
 namespace vlf {
 namespace {
 
+// tests/scenes/glass-room.json (a glass ball of 320 facets, most covering no ray centre in a
+// given direction, a glass box, a mirror, the room) in 129 directions on a 32 x 32 grid of
+// 8 x 8 tiles, with every face's coverage measured.
+struct GlassRoomPsfs {
+    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
+    const DirectionSet dirs{129};
+    const std::vector<Mat3> rot = [&] {
+        std::vector<Mat3> r(size_t(dirs.size()));
+        for (int d = 0; d < dirs.size(); ++d) r[size_t(d)] = rotation_to_z(dirs.direction(d));
+        return r;
+    }();
+    const int N = 32, m = 8;
+    const Coverage cov = measure_coverage(s, rot, N, std::vector<uint8_t>(s.faces.size(), 1));
+};
+
 TEST(PsfCoverage, FacesTheCountFoundEmptyAreSkippedForTheSamePsf) {
     // The transport's true-direction PSFs skip a stored face whose measured coverage in the
     // direction is 0 (rasterise_psf's `coverage`): the tiles, fragments and spans must be
-    // those of the full rasterisation. tests/scenes/glass-room.json: a ball of 320 facets
-    // (most cover no ray centre in a given direction), a box, a mirror, the room.
-    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
-    const DirectionSet dirs(129);
-    std::vector<Mat3> rot(size_t(dirs.size()));
-    for (int d = 0; d < dirs.size(); ++d) rot[size_t(d)] = rotation_to_z(dirs.direction(d));
-    const int N = 32, m = 8;
-    const Coverage cov = measure_coverage(s, rot, N, std::vector<uint8_t>(s.faces.size(), 1));
+    // those of the full rasterisation.
+    const GlassRoomPsfs g;
     uint64_t skipped = 0;
-    for (int d = 0; d < dirs.size(); ++d) {
-        for (const Face& f : s.faces) skipped += cov(d, f.id) == 0;
-        const Psf a = rasterise_psf(s, rot[size_t(d)], d, N, m);
-        const Psf b = rasterise_psf(s, rot[size_t(d)], d, N, m, &cov);
+    for (int d = 0; d < g.dirs.size(); ++d) {
+        for (const Face& f : g.s.faces) skipped += g.cov(d, f.id) == 0;
+        const Psf a = rasterise_psf(g.s, g.rot[size_t(d)], d, g.N, g.m);
+        const Psf b = rasterise_psf(g.s, g.rot[size_t(d)], d, g.N, g.m, &g.cov);
         ASSERT_EQ(a.tile_of, b.tile_of) << d;
         ASSERT_EQ(a.tiles.size(), b.tiles.size()) << d;
         for (size_t t = 0; t < a.tiles.size(); ++t) {
@@ -287,7 +296,7 @@ TEST(PsfCoverage, FacesTheCountFoundEmptyAreSkippedForTheSamePsf) {
                             x.spans[k].end == y.spans[k].end);
         }
     }
-    EXPECT_GT(skipped, uint64_t(dirs.size()) * 200);  // the case is exercised
+    EXPECT_GT(skipped, uint64_t(g.dirs.size()) * 200);  // the case is exercised
 }
 
 TEST(PsfTwins, ATwinHasItsFacesRasterFacingTheOtherWay) {
@@ -295,24 +304,19 @@ TEST(PsfTwins, ATwinHasItsFacesRasterFacingTheOtherWay) {
     // its count: both must equal rasterising the twin itself (rasterise_face, count_covered)
     // in every direction, with the twin's own facing. Every third outer face is left out of
     // the pass (a face whose coverage is 0 is not rasterised), so its twin rasterises alone.
-    const Scene s = load_scene(test::source_path("tests/scenes/glass-room.json"));
-    const DirectionSet dirs(129);
-    std::vector<Mat3> rot(size_t(dirs.size()));
-    for (int d = 0; d < dirs.size(); ++d) rot[size_t(d)] = rotation_to_z(dirs.direction(d));
-    const int N = 32, m = 8;
-    const Coverage cov = measure_coverage(s, rot, N, std::vector<uint8_t>(s.faces.size(), 1));
+    const GlassRoomPsfs g;
     TwinRasters twins;
     FaceRaster got, want;
     uint64_t shared = 0, twin_faces = 0;
-    for (int d = 0; d < dirs.size(); ++d) {
+    for (int d = 0; d < g.dirs.size(); ++d) {
         twins.clear();
-        for (const Face& f : s.faces) {
+        for (const Face& f : g.s.faces) {
             if (f.twin > f.id && f.id % 3 == 0) continue;  // left out: its twin goes alone
-            twins.rasterise(f, rot[size_t(d)], N, m, got);
-            rasterise_face(f, rot[size_t(d)], N, m, want);
+            twins.rasterise(f, g.rot[size_t(d)], g.N, g.m, got);
+            rasterise_face(f, g.rot[size_t(d)], g.N, g.m, want);
             ASSERT_EQ(got.facing, want.facing) << d << " face " << f.id;
             ASSERT_EQ(got.covered, want.covered) << d << " face " << f.id;
-            ASSERT_EQ(cov(d, f.id), want.covered) << d << " face " << f.id;
+            ASSERT_EQ(g.cov(d, f.id), want.covered) << d << " face " << f.id;
             ASSERT_EQ(got.fragments.size(), want.fragments.size());
             for (size_t k = 0; k < got.fragments.size(); ++k) {
                 const FaceFragment &p = got.fragments[k], &q = want.fragments[k];
@@ -331,7 +335,7 @@ TEST(PsfTwins, ATwinHasItsFacesRasterFacingTheOtherWay) {
         }
     }
     EXPECT_GT(twin_faces, 0u);
-    EXPECT_GT(shared, uint64_t(dirs.size()) * 20);  // rasters handed over: the case is run
+    EXPECT_GT(shared, uint64_t(g.dirs.size()) * 20);  // rasters handed over: the case is run
 }
 
 }  // namespace
