@@ -400,15 +400,6 @@ void sample(const SurfacePixel* px, uint32_t n, int i, int j, double z, double t
             out.push_back({ray, e, 1.0f / float(count)});
 }
 
-// The scene-frame point of source pixel (i, j)'s corner (ci, cj in 0..1) on face f's plane
-// (n: f's normal in t's frame).
-Vec3 corner_point(const SurfaceFrame& t, const Face& f, const Vec3& n, int i, int j, double ci,
-                  double cj) {
-    const double x = 2.0 * (i + ci) / t.resolution - 1.0, y = 2.0 * (j + cj) / t.resolution - 1.0;
-    const double z = (f.plane_offset - n.x * x - n.y * y) / n.z;
-    return rotate_back(t.rotation, Vec3(x, y, z));
-}
-
 // The ray of `rays` nearest to scene point x: rings of pixels around x's pixel on the target
 // grid, out to one ring past the first that holds a ray, else all of them. `points`: each
 // ray's surface_ray_point.
@@ -450,22 +441,50 @@ size_t nearest_ray(const SurfaceRays& rays, const std::vector<Vec3>& points, con
 void plan_gather(const Scene& scene, const SurfaceFrame& src, uint32_t n, const SurfacePixel* px,
                  const Mat3& rot, int N, const SurfaceRays& rays, const std::vector<Vec3>& points,
                  std::vector<GatherEntry>& out) {
+    // The source frame to the target's: A = rot * R_src^T (its first two rows: the target
+    // grid's x and y), once per target rather than two rotations per footprint corner.
+    const std::array<float, 9>& r = src.rotation;
+    double A[2][3];
+    for (int row = 0; row < 2; ++row)
+        for (int k = 0; k < 3; ++k)
+            A[row][k] = rot[0][row] * r[size_t(k * 3)] + rot[1][row] * r[size_t(k * 3 + 1)] +
+                        rot[2][row] * r[size_t(k * 3 + 2)];
+    const double h = 2.0 / src.resolution;  // a source pixel's width
     double lo_i = 1e300, hi_i = -1e300, lo_j = 1e300, hi_j = -1e300;
     bool rim = false;  // a sending pixel beside one the surface does not cover
+    int32_t last_face = -1;
+    double c[2][3] = {};  // per target axis: the grid coordinate's x, y and constant terms
+    bool steep = false;
     for (uint32_t e = 0; e < n; ++e) {
         const SurfacePixel& p = px[e];
         rim |= (p.around & 0x739c0u) != 0x739c0u;  // its 3 x 3 (bits 6-8, 11-13, 16-18)
-        const Face& f = scene.faces[size_t(p.face)];
-        const Vec3 fn = rotate(src.rotation, f.normal);
-        const bool steep = std::abs(fn.z) < 1e-3;
-        for (int c = 0; c < 4; ++c) {
-            const Vec3 x = steep ? corner_point(src, f, fn, p.i, p.j, 0.5, 0.5)
-                                 : corner_point(src, f, fn, p.i, p.j, c & 1, c >> 1);
-            const Vec3 q = rot * x;
-            const double u = (q.x + 1.0) * 0.5 * N, v = (q.y + 1.0) * 0.5 * N;
-            lo_i = std::min(lo_i, u), hi_i = std::max(hi_i, u);
-            lo_j = std::min(lo_j, v), hi_j = std::max(hi_j, v);
+        if (p.face != last_face) {
+            // On face f's plane z = (offset - n.x x - n.y y) / n.z (n: its normal in the
+            // source frame), so a target coordinate A.(x, y, z) is affine in x and y.
+            last_face = p.face;
+            const Face& f = scene.faces[size_t(p.face)];
+            const Vec3 fn = rotate(r, f.normal);
+            steep = std::abs(fn.z) < 1e-3;
+            for (int row = 0; row < 2; ++row) {
+                c[row][0] = A[row][0] - A[row][2] * fn.x / fn.z;
+                c[row][1] = A[row][1] - A[row][2] * fn.y / fn.z;
+                c[row][2] = A[row][2] * f.plane_offset / fn.z;
+            }
         }
+        // The pixel's corners (a steep face's pixel: its centre), as the target grid sees
+        // them: an affine map's extremes over the pixel's square are at its corners.
+        const double x0 = h * (p.i + (steep ? 0.5 : 0.0)) - 1.0;
+        const double y0 = h * (p.j + (steep ? 0.5 : 0.0)) - 1.0;
+        const double w = steep ? 0.0 : h;
+        double lo[2], hi[2];
+        for (int row = 0; row < 2; ++row) {
+            const double base = c[row][0] * x0 + c[row][1] * y0 + c[row][2];
+            const double dx = c[row][0] * w, dy = c[row][1] * w;
+            lo[row] = (base + std::min(0.0, dx) + std::min(0.0, dy) + 1.0) * 0.5 * N;
+            hi[row] = (base + std::max(0.0, dx) + std::max(0.0, dy) + 1.0) * 0.5 * N;
+        }
+        lo_i = std::min(lo_i, lo[0]), hi_i = std::max(hi_i, hi[0]);
+        lo_j = std::min(lo_j, lo[1]), hi_j = std::max(hi_j, hi[1]);
     }
     // Rays whose centres lie in the footprints' box; a pixel wider where the neighbour rule
     // (sample) can reach a rim pixel from outside the surface.
