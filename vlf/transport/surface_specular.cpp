@@ -80,7 +80,15 @@ void sort_entries(const SmoothSurfaces& surfaces, std::vector<Entry>& entries) {
         last = e.ray;
         if (count[key(e)]++ == 0) used.push_back(key(e));
     }
-    std::sort(used.begin(), used.end());
+    // The keys met, ascending: sorted where they are few, else read off the counts in order
+    // (a ball's reflections reach every direction: thousands of keys of a few thousand).
+    if (used.size() * 16 < count.size()) {
+        std::sort(used.begin(), used.end());
+    } else {
+        used.clear();
+        for (size_t k = 0; k < count.size(); ++k)
+            if (count[k] != 0) used.push_back(k);
+    }
     uint32_t at = 0;
     for (size_t k : used) at += std::exchange(count[k], at);  // counts -> first places
     sorted.resize(entries.size());
