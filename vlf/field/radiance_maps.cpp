@@ -1,6 +1,9 @@
 #include "vlf/field/radiance_maps.hpp"
 
 #include <algorithm>
+#include <limits>
+
+#include "vlf/core/error.hpp"
 
 namespace vlf {
 
@@ -14,14 +17,22 @@ RadianceMaps::RadianceMaps(const Scene& scene, const std::vector<bool>& stored, 
             slot[f] = static_cast<int>(faces.size());
             faces.push_back(static_cast<int>(f));
         }
-    offset.assign(size_t(dirs) * faces.size() + 1, 0);
+    const size_t per = faces.size() + 1;
+    dir_first.assign(size_t(dirs) + 1, 0);
+    within.assign(size_t(dirs) * per, 0);
     uint64_t at = 0;
-    for (int d = 0; d < dirs; ++d)
+    for (int d = 0; d < dirs; ++d) {
+        dir_first[size_t(d)] = at;
+        uint64_t n = 0;
         for (size_t k = 0; k < faces.size(); ++k) {
-            offset[size_t(d) * faces.size() + k] = at;
-            at += coverage(d, faces[k]);
+            within[size_t(d) * per + k] = uint32_t(n);
+            n += coverage(d, faces[k]);
         }
-    offset.back() = at;
+        VLF_CHECK(n <= std::numeric_limits<uint32_t>::max());
+        within[size_t(d) * per + faces.size()] = uint32_t(n);
+        at += n;
+    }
+    dir_first.back() = at;
     hold(d0, d1 < 0 ? dirs : d1);
 }
 
@@ -44,9 +55,9 @@ void RadianceMaps::hold(int d0, int d1) {
 }
 
 int64_t RadianceMaps::bytes() const {
-    return static_cast<int64_t>((total.capacity() + unshot.capacity() + unshot_next.capacity()) *
-                                    sizeof(RgbF) +
-                                offset.capacity() * sizeof(uint64_t));
+    return static_cast<int64_t>(
+        (total.capacity() + unshot.capacity() + unshot_next.capacity()) * sizeof(RgbF) +
+        dir_first.capacity() * sizeof(uint64_t) + within.capacity() * sizeof(uint32_t));
 }
 
 }  // namespace vlf
