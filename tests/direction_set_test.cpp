@@ -500,6 +500,37 @@ TEST(DirectionSetEnclosing, MatchesBruteForce) {
         }
 }
 
+// A hint (the triangle a neighbouring direction fell in) changes nothing: each direction of
+// a path that wanders in small steps (as a curved mirror's reflections of neighbouring rays
+// do), and of one that jumps, finds the triangle and weights it finds without a hint, and the
+// hint it leaves is that triangle. The jumps include the lattice points and the edges'
+// midpoints, where the triangles around score alike up to rounding and the map decides.
+TEST(DirectionSetEnclosing, AHintFindsTheSameTriangle) {
+    for (DirectionScheme s : kSchemes)
+        for (int l : {33, 2049}) {
+            const DirectionSet& ds = cached(l, s);
+            const std::vector<Vec3> jumps = test_directions(ds, 20000, 7 + l);
+            int hint = -1, kept = 0;
+            Vec3 t = jumps[0];
+            for (size_t k = 0; k < 2 * jumps.size(); ++k) {
+                // Even steps: a small turn towards the next test direction; odd: a jump.
+                const Vec3& to = jumps[(k / 2 + 1) % jumps.size()];
+                t = k % 2 == 0 ? glm::normalize(t + 0.02 * (to - t)) : to;
+                const int before = hint;
+                const EnclosingTriangle a = ds.enclosing(t, hint);
+                const EnclosingTriangle b = ds.enclosing(t);
+                ASSERT_EQ(a.index, b.index) << to_string(s) << " l=" << l << " k=" << k;
+                ASSERT_EQ(a.sense, b.sense);
+                ASSERT_EQ(a.weight, b.weight);
+                int again = -1;
+                ds.enclosing(t, again);
+                EXPECT_EQ(hint, again);
+                kept += before == hint;
+            }
+            EXPECT_GT(kept, int(jumps.size()) / 4);  // the small steps mostly keep the hint
+        }
+}
+
 // A smooth function of the travel direction, interpolated from its values at the 2l travel
 // vertices with enclosing(); RMS error over uniform directions (docs/directions.md).
 double smooth_f(const Vec3& t) {

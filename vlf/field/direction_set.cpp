@@ -339,38 +339,54 @@ int DirectionSet::nearest(const Vec3& d) const {
 }
 
 EnclosingTriangle DirectionSet::enclosing(const Vec3& t) const {
+    int hint = -1;
+    return enclosing(t, hint);
+}
+
+EnclosingTriangle DirectionSet::enclosing(const Vec3& t, int& hint) const {
     VLF_DCHECK(std::abs(glm::dot(t, t) - 1.0) < 1e-6);
     // The triangulation covers the upper hemisphere; a downward t is found as -t in the
     // triangle with all senses flipped (the gnomonic weights are unchanged by the flip).
     const bool flip = t.z < 0.0;
     const Vec3 up = flip ? -t : t;
-    int ci = 0, cj = 0;
-    int tri = locate(map_to_diamond(m_scheme, up), ci, cj);
+    // The least signed distance of up from a triangle's edges (great circles): positive
+    // inside it. The triangles tile the hemisphere, neighbours sharing each edge's great
+    // circle, so a point inside one by more than rounding (at a vertex the triangles around
+    // it all score about +-1e-17) is inside no other: the map's triangle or its search below
+    // would find the same one.
+    constexpr double kInside = 1e-9;
     auto score = [&](int id) {
         const TriangleGeometry& g = m_geometry[id];
         double s = std::numeric_limits<double>::max();
         for (int q = 0; q < 3; ++q) s = std::min(s, glm::dot(up, g.edge[q]) * g.inv_len[q]);
         return s;
     };
-    if (score(tri) < 0.0) {
-        // The map triangle does not contain t on the sphere: for the octahedral scheme only
-        // by rounding, for the equal-area one because its curved edges differ from great
-        // arcs. The true triangle touches the map triangle: search the 3x3 cells around.
-        double best = score(tri);
-        for (int dj = -1; dj <= 1; ++dj)
-            for (int di = -1; di <= 1; ++di) {
-                const int ni = ci + di, nj = cj + dj;
-                if (ni < -m_n || ni >= m_n || nj < -m_n || nj >= m_n) continue;
-                for (int id : m_cell_triangles[cell_slot(ni, nj)]) {
-                    if (id < 0) continue;
-                    const double s = score(id);
-                    if (s > best) {
-                        best = s;
-                        tri = id;
+    int tri = hint;
+    if (tri < 0 || tri >= int(m_triangles.size()) || !(score(tri) > kInside)) {
+        int ci = 0, cj = 0;
+        tri = locate(map_to_diamond(m_scheme, up), ci, cj);
+        if (score(tri) < 0.0) {
+            // The map triangle does not contain t on the sphere: for the octahedral scheme
+            // only by rounding, for the equal-area one because its curved edges differ from
+            // great arcs. The true triangle touches the map triangle: search the 3x3 cells
+            // around.
+            double best = score(tri);
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    const int ni = ci + di, nj = cj + dj;
+                    if (ni < -m_n || ni >= m_n || nj < -m_n || nj >= m_n) continue;
+                    for (int id : m_cell_triangles[cell_slot(ni, nj)]) {
+                        if (id < 0) continue;
+                        const double s = score(id);
+                        if (s > best) {
+                            best = s;
+                            tri = id;
+                        }
                     }
                 }
-            }
+        }
     }
+    hint = tri;
     const Triangle& tr = m_triangles[tri];
     const TriangleGeometry& g = m_geometry[tri];
     EnclosingTriangle e;

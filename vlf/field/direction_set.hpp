@@ -60,6 +60,12 @@ class DirectionSet {
     // (any unit vector), its vertices as (line index, sense) and barycentric weights.
     // Constant time.
     EnclosingTriangle enclosing(const Vec3& t) const;
+    // The same, trying first the triangle `hint` names (the one the caller's previous
+    // direction fell in, or -1), which is taken when t lies inside it by more than rounding
+    // (not on an edge or at a vertex, where the map decides); `hint` is
+    // set to t's triangle. Neighbouring directions (a curved mirror's reflections of
+    // neighbouring rays) skip the map and its search; the result is the same.
+    EnclosingTriangle enclosing(const Vec3& t, int& hint) const;
 
     // The triangles of the hemisphere triangulation (each vertex as line index + sense).
     struct Triangle {

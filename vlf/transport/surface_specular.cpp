@@ -113,9 +113,11 @@ void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
     w.ray.assign(size_t(w.width) * size_t(w.height), 0);
     std::vector<Entry> entries;
     // Ray `at` leaves `onto`'s front along `out` with the part `frac` of what it received:
-    // to the three enclosing directions the surface has rays in.
-    auto branch = [&](int onto, const Vec3& dir, double frac, uint32_t at) {
-        const EnclosingTriangle tri = dirs.enclosing(dir);
+    // to the three enclosing directions the surface has rays in. Neighbouring rays turn
+    // into neighbouring directions: each branch starts its search at the last one's triangle.
+    int hints[2] = {-1, -1};  // the reflections', the refractions'
+    auto branch = [&](int onto, const Vec3& dir, double frac, uint32_t at, int& hint) {
+        const EnclosingTriangle tri = dirs.enclosing(dir, hint);
         double sum = 0.0;
         for (int i = 0; i < 3; ++i)
             if (tri.weight[i] > 0.0 && surfaces.carried(onto, tri.index[i], tri.sense[i]) > 0)
@@ -136,11 +138,12 @@ void plan_layer(const Scene& scene, const DirectionSet& dirs, const SmoothSurfac
         const Face& face = scene.faces[size_t(r.face)];
         const SpecularTurn t = specular_turn(scene, face, r.point, incoming);
         if (!scene.material_of(face).dielectric) {
-            branch(surface, t.reflected, 1.0, k);
+            branch(surface, t.reflected, 1.0, k, hints[0]);
             continue;
         }
-        if (t.refracts) branch(surfaces.of_face[size_t(face.twin)], t.refracted, 1.0 - t.R, k);
-        branch(surface, t.reflected, t.R, k);
+        if (t.refracts)
+            branch(surfaces.of_face[size_t(face.twin)], t.refracted, 1.0 - t.R, k, hints[1]);
+        branch(surface, t.reflected, t.R, k, hints[0]);
     }
     sort_entries(surfaces, entries);
     std::vector<SurfacePlan::Pixel>& pixels = plan.pixels;
